@@ -1,0 +1,59 @@
+# centrobench: every target sets up .venv from the pinned versions on first use.
+# The two commands a new user needs: `make bench` (the main job) and `make test` (the tests).
+
+PYTHON ?= $(shell command -v python3.11 || command -v python3)
+VENV := .venv
+BIN := $(VENV)/bin
+STAMP := $(VENV)/.installed
+
+.PHONY: all bench test test-slow test-all lint format benchmark constraints clean
+
+all: test
+
+$(STAMP): pyproject.toml constraints.txt
+	@$(PYTHON) -c 'import sys; sys.exit(0 if sys.version_info >= (3, 11) else "centrobench needs Python >= 3.11; set PYTHON=/path/to/python3.11")'
+	$(PYTHON) -m venv $(VENV)
+	$(BIN)/python -m pip install --quiet --upgrade "pip==26.3"
+	$(BIN)/python -m pip install --quiet -c constraints.txt -e '.[dev]'
+	@touch $@
+
+## bench: the main job (for now: load the robot in both simulators, stand, print the summary)
+bench: $(STAMP)
+	$(BIN)/centrobench demo
+
+## test: the test suite without the long simulations (what CI runs)
+test: $(STAMP)
+	$(BIN)/python -m pytest
+
+## test-slow: only the long simulations
+test-slow: $(STAMP)
+	$(BIN)/python -m pytest -m slow
+
+## test-all: everything but the timing benchmarks
+test-all: $(STAMP)
+	$(BIN)/python -m pytest -m 'not benchmark'
+
+lint: $(STAMP)
+	$(BIN)/ruff check .
+	$(BIN)/ruff format --check .
+
+format: $(STAMP)
+	$(BIN)/ruff format .
+	$(BIN)/ruff check --fix .
+
+## benchmark: pytest-benchmark timing runs (exit code 5 = none collected yet, not a failure)
+benchmark: $(STAMP)
+	$(BIN)/python -m pytest -m benchmark --benchmark-enable --benchmark-only \
+		--benchmark-json=build/benchmark.json; rc=$$?; [ $$rc -eq 0 ] || [ $$rc -eq 5 ]
+
+## constraints: re-resolve every pin from pyproject.toml (then re-run the agreement tests)
+constraints:
+	rm -rf build/constraints-venv
+	$(PYTHON) -m venv build/constraints-venv
+	build/constraints-venv/bin/python -m pip install --quiet --upgrade pip
+	build/constraints-venv/bin/python -m pip install --quiet -e '.[dev,ray]'
+	build/constraints-venv/bin/python -m pip freeze --exclude-editable > build/constraints.new
+	@echo "review build/constraints.new and merge it into constraints.txt (keep the header)"
+
+clean:
+	rm -rf $(VENV) build results .pytest_cache .ruff_cache

@@ -1,0 +1,1 @@
+"""The humanoid description, its generated URDF/MJCF, and (later) its pinocchio model."""

@@ -1,0 +1,273 @@
+"""The centrobench humanoid: one Python spec, 1.60 m and 58.4 kg at scale 1.
+
+Structure (20 actuated joints):
+- `torso` (floating base): pelvis block, chest block and head, one rigid body; IMU in the chest.
+- each leg, 6 DoF: hip yaw (z), hip roll (x), hip pitch (y), knee (y), ankle pitch (y),
+  ankle roll (x); the three hip axes and the two ankle axes intersect; rectangular foot
+  0.22 x 0.12 m with the sole frame at its centre, force/torque sensor frame at the ankle.
+- each arm, 4 DoF: shoulder pitch (y), shoulder roll (x), shoulder yaw (z), elbow (y); a flat
+  hand pad 0.10 x 0.08 m at the forearm's end, facing along -z of the forearm frame (forward
+  when the arm is raised horizontally), palm frame at its centre, sensor frame at the wrist.
+
+Mass distribution (scale 1): torso 24 kg (pelvis 8, chest 13, head 3), each leg 12.8 kg
+(hip links 1.0 + 1.5, thigh 5.5, shank 3.0, ankle link 0.5, foot 1.3), each arm 4.4 kg
+(shoulder links 0.6 + 0.6, upper arm 1.8, forearm with hand 1.4): 41 % torso, 44 % legs, 15 %
+arms, close to the segment fractions of human body tables and of adult-size humanoids.
+
+Scaling (`scale` s, optional `total_mass`): geometric similarity with constant density —
+lengths x s, masses x s^3, inertias x s^5, torque limits and servo stiffness x s^4 (gravity
+torque m g l), servo damping x s^4.5 (same damping ratio), joint speed limits x s^-0.5 (Froude
+similarity, time ~ sqrt(l / g)); position limits unchanged. `total_mass` then rescales every
+mass, inertia, torque limit and gain by one factor so that the robot weighs exactly that.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from robots.inertia import composite_inertial
+from robots.spec import Frame, Geometry, Joint, Limb, Link, RobotDescription
+
+NOMINAL_HEIGHT_M = 1.60
+NOMINAL_MASS_KG = 58.4
+
+# Joint limits at scale 1: (lower, upper) [rad], speed [rad/s], torque [N m], kp [N m/rad],
+# kd [N m s/rad]. Roll limits are for the left side; the right side mirrors them.
+_LEG_JOINTS = {
+    "hip_yaw": ((-0.7, 0.7), 8.0, 100.0, 600.0, 6.0),
+    "hip_roll": ((-0.4, 0.8), 8.0, 200.0, 1500.0, 60.0),
+    "hip_pitch": ((-2.0, 0.6), 8.0, 250.0, 1500.0, 60.0),
+    "knee": ((0.0, 2.4), 10.0, 300.0, 1500.0, 40.0),
+    "ankle_pitch": ((-1.0, 0.8), 10.0, 200.0, 800.0, 15.0),
+    "ankle_roll": ((-0.4, 0.4), 10.0, 120.0, 800.0, 8.0),
+}
+_ARM_JOINTS = {
+    "shoulder_pitch": ((-3.0, 1.0), 6.0, 80.0, 300.0, 6.0),
+    "shoulder_roll": ((-0.3, 2.5), 6.0, 80.0, 300.0, 6.0),
+    "shoulder_yaw": ((-1.5, 1.5), 6.0, 60.0, 200.0, 3.0),
+    "elbow": ((-2.4, 0.0), 6.0, 60.0, 200.0, 3.0),
+}
+_NOMINAL = {
+    "hip_yaw": 0.0, "hip_roll": 0.0, "hip_pitch": -0.35, "knee": 0.7, "ankle_pitch": -0.35,
+    "ankle_roll": 0.0, "shoulder_pitch": 0.1, "shoulder_roll": 0.15, "shoulder_yaw": 0.0,
+    "elbow": -0.4,
+}  # fmt: skip
+_MIRRORED = {"hip_roll", "hip_yaw", "ankle_roll", "shoulder_roll", "shoulder_yaw"}
+
+
+@dataclass(frozen=True)
+class _Scaling:
+    length: float
+    mass: float
+
+    @property
+    def inertia(self) -> float:
+        return self.mass * self.length**2
+
+    @property
+    def torque(self) -> float:
+        return self.mass * self.length
+
+    @property
+    def damping(self) -> float:
+        # kd = 2 zeta sqrt(kp I): sqrt(m l * m l^2) = m l^1.5
+        return self.mass * self.length**1.5
+
+    @property
+    def speed(self) -> float:
+        return self.length**-0.5
+
+
+def humanoid(scale: float = 1.0, total_mass: float | None = None) -> RobotDescription:
+    """The centrobench humanoid scaled by `scale` (1 -> 1.60 m); `total_mass` [kg] overrides
+    the mass that geometric scaling gives. Raises ValueError for a non-positive argument."""
+    if not np.isfinite(scale) or scale <= 0:
+        raise ValueError(f"scale must be a positive number, got {scale}")
+    if total_mass is not None and (not np.isfinite(total_mass) or total_mass <= 0):
+        raise ValueError(f"total_mass must be a positive number of kg, got {total_mass}")
+    mass_factor = scale**3
+    if total_mass is not None:
+        mass_factor = total_mass / NOMINAL_MASS_KG
+    k = _Scaling(length=scale, mass=mass_factor)
+
+    def v(*xyz: float) -> tuple[float, float, float]:
+        return (xyz[0] * k.length, xyz[1] * k.length, xyz[2] * k.length)
+
+    def box(hx: float, hy: float, hz: float, at=(0.0, 0.0, 0.0), collides=True) -> Geometry:
+        return Geometry("box", v(hx, hy, hz), v(*at), collides=collides)
+
+    def capsule(r: float, half: float, at=(0.0, 0.0, 0.0), collides=True) -> Geometry:
+        return Geometry("capsule", (r * k.length, half * k.length), v(*at), collides=collides)
+
+    def sphere(r: float, at=(0.0, 0.0, 0.0), collides=True) -> Geometry:
+        return Geometry("sphere", (r * k.length,), v(*at), collides=collides)
+
+    def link(name: str, mass: float, *geometries: Geometry) -> Link:
+        return Link(name, composite_inertial(geometries, mass * k.mass), geometries)
+
+    links: list[Link] = [
+        link(
+            "torso",
+            24.0,
+            box(0.10, 0.13, 0.07, at=(0.0, 0.0, -0.01)),  # pelvis
+            box(0.11, 0.16, 0.18, at=(0.0, 0.0, 0.30)),  # chest
+            sphere(0.10, at=(0.0, 0.0, 0.62)),  # head
+        )
+    ]
+    joints: list[Joint] = []
+    frames: list[Frame] = [Frame("imu", "torso", v(0.0, 0.0, 0.25), "imu")]
+    limbs: list[Limb] = []
+    nominal: list[float] = []
+
+    def add_joint(side: str, kind: str, parent: str, child: str, origin, axis, table) -> None:
+        (lower, upper), speed, torque, kp, kd = table[kind]
+        if side == "right" and kind in _MIRRORED:
+            lower, upper = -upper, -lower
+        joints.append(
+            Joint(
+                name=f"{side}_{kind}",
+                parent=parent,
+                child=child,
+                origin_in_parent=v(*origin),
+                axis=axis,
+                lower=lower,
+                upper=upper,
+                velocity_limit=speed * k.speed,
+                torque_limit=torque * k.torque,
+                kp=kp * k.torque,
+                kd=kd * k.damping,
+            )
+        )
+        q = _NOMINAL[kind]
+        nominal.append(-q if side == "right" and kind in _MIRRORED else q)
+
+    x_axis, y_axis, z_axis = (1.0, 0.0, 0.0), (0.0, 1.0, 0.0), (0.0, 0.0, 1.0)
+    # Order: left leg, left arm, right leg, right arm -- the depth-first order of the URDF tree
+    # with siblings sorted by joint name, which is the order pinocchio's parser produces; the
+    # MJCF and PyBullet follow the same order (a test checks all three).
+    for side, sign in (("left", 1.0), ("right", -1.0)):
+        # Leg. Hip centre 0.08 below the pelvis frame; thigh and shank 0.36 each; ankle 0.08
+        # above the sole.
+        s = side
+        links += [
+            link(
+                f"{s}_hip_yaw_link", 1.0, capsule(0.045, 0.02, at=(0.0, 0.0, 0.04), collides=False)
+            ),
+            link(f"{s}_hip_roll_link", 1.5, box(0.05, 0.04, 0.04, collides=False)),
+            link(f"{s}_thigh", 5.5, capsule(0.065, 0.12, at=(0.0, 0.0, -0.18))),
+            link(f"{s}_shank", 3.0, capsule(0.05, 0.13, at=(0.0, 0.0, -0.17))),
+            link(f"{s}_ankle_link", 0.5, box(0.03, 0.03, 0.03, collides=False)),
+            link(
+                f"{s}_foot",
+                1.3,
+                box(0.11, 0.06, 0.02, at=(0.03, 0.0, -0.06)),  # sole plate
+                box(0.035, 0.035, 0.025, at=(0.0, 0.0, -0.015)),  # ankle block
+            ),
+        ]
+        add_joint(
+            s,
+            "hip_yaw",
+            "torso",
+            f"{s}_hip_yaw_link",
+            (0.0, sign * 0.09, -0.08),
+            z_axis,
+            _LEG_JOINTS,
+        )
+        add_joint(
+            s,
+            "hip_roll",
+            f"{s}_hip_yaw_link",
+            f"{s}_hip_roll_link",
+            (0.0, 0.0, 0.0),
+            x_axis,
+            _LEG_JOINTS,
+        )
+        add_joint(
+            s, "hip_pitch", f"{s}_hip_roll_link", f"{s}_thigh", (0.0, 0.0, 0.0), y_axis, _LEG_JOINTS
+        )
+        add_joint(s, "knee", f"{s}_thigh", f"{s}_shank", (0.0, 0.0, -0.36), y_axis, _LEG_JOINTS)
+        add_joint(
+            s,
+            "ankle_pitch",
+            f"{s}_shank",
+            f"{s}_ankle_link",
+            (0.0, 0.0, -0.36),
+            y_axis,
+            _LEG_JOINTS,
+        )
+        add_joint(
+            s, "ankle_roll", f"{s}_ankle_link", f"{s}_foot", (0.0, 0.0, 0.0), x_axis, _LEG_JOINTS
+        )
+        frames += [
+            Frame(f"{s}_sole", f"{s}_foot", v(0.03, 0.0, -0.08), "contact"),
+            Frame(f"{s}_ankle_ft", f"{s}_foot", v(0.0, 0.0, 0.0), "force_torque"),
+        ]
+        limbs.append(
+            Limb(f"{s}_foot", f"{s}_foot", f"{s}_sole", f"{s}_ankle_ft", v(0.11, 0.06, 0.0)[:2])
+        )
+
+        # Arm. Shoulder 0.42 above the pelvis frame, upper arm 0.26, forearm 0.22 to the pad.
+        links += [
+            link(f"{s}_shoulder_pitch_link", 0.6, sphere(0.045, collides=False)),
+            link(f"{s}_shoulder_roll_link", 0.6, sphere(0.045, collides=False)),
+            link(f"{s}_upper_arm", 1.8, capsule(0.045, 0.09, at=(0.0, 0.0, -0.13))),
+            link(
+                f"{s}_forearm",
+                1.4,
+                capsule(0.04, 0.07, at=(0.0, 0.0, -0.10)),
+                box(0.05, 0.04, 0.01, at=(0.0, 0.0, -0.21)),  # hand pad
+            ),
+        ]
+        add_joint(
+            s,
+            "shoulder_pitch",
+            "torso",
+            f"{s}_shoulder_pitch_link",
+            (0.0, sign * 0.21, 0.42),
+            y_axis,
+            _ARM_JOINTS,
+        )
+        add_joint(
+            s,
+            "shoulder_roll",
+            f"{s}_shoulder_pitch_link",
+            f"{s}_shoulder_roll_link",
+            (0.0, 0.0, 0.0),
+            x_axis,
+            _ARM_JOINTS,
+        )
+        add_joint(
+            s,
+            "shoulder_yaw",
+            f"{s}_shoulder_roll_link",
+            f"{s}_upper_arm",
+            (0.0, 0.0, 0.0),
+            z_axis,
+            _ARM_JOINTS,
+        )
+        add_joint(
+            s, "elbow", f"{s}_upper_arm", f"{s}_forearm", (0.0, 0.0, -0.26), y_axis, _ARM_JOINTS
+        )
+        frames += [
+            Frame(f"{s}_palm", f"{s}_forearm", v(0.0, 0.0, -0.22), "contact"),
+            Frame(f"{s}_wrist_ft", f"{s}_forearm", v(0.0, 0.0, -0.20), "force_torque"),
+        ]
+        limbs.append(
+            Limb(f"{s}_hand", f"{s}_forearm", f"{s}_palm", f"{s}_wrist_ft", v(0.05, 0.04, 0.0)[:2])
+        )
+
+    description = RobotDescription(
+        name="centrobench_humanoid",
+        scale=scale,
+        links=tuple(links),
+        joints=tuple(joints),
+        frames=tuple(frames),
+        limbs=tuple(sorted(limbs, key=lambda limb: limb.name.endswith("hand"))),  # feet first
+        imu_frame="imu",
+        nominal_posture=tuple(nominal),
+        fall_height=0.45 * k.length,
+    )
+    description.validate()
+    return description

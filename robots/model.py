@@ -1,0 +1,120 @@
+"""The pinocchio model of a `RobotDescription`, built from the same generated URDF as PyBullet,
+with a free-flyer root.
+
+Conventions at this boundary: pinocchio's configuration stores the base quaternion as
+(x, y, z, w) and its velocity holds the base twist in the base frame; `RobotState` uses
+(w, x, y, z) and world-frame velocities. `configuration` and `velocity` convert.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+import pinocchio as pin
+
+from robots.build import generate
+from robots.spec import RobotDescription
+from robots.types import MassProperties, RobotState
+
+
+class RobotModel:
+    """Kinematics and mass properties of one robot (pinocchio)."""
+
+    def __init__(self, robot: RobotDescription) -> None:
+        self.robot = robot
+        self.model = pin.buildModelFromUrdf(str(generate(robot).urdf), pin.JointModelFreeFlyer())
+        self.data = self.model.createData()
+        self.frame_id = {f.name: i for i, f in enumerate(self.model.frames)}
+        names = list(self.model.names)[2:]
+        if names != list(robot.joint_names):
+            raise RuntimeError(f"pinocchio joint order {names} differs from the description's")
+
+    @property
+    def total_mass(self) -> float:
+        """[kg]"""
+        return float(pin.computeTotalMass(self.model))
+
+    def configuration(self, state: RobotState) -> np.ndarray:
+        """pinocchio q: base position, base quaternion (x, y, z, w), joint positions."""
+        quaternion = np.asarray(state.base_orientation_world, dtype=float)
+        w, x, y, z = quaternion / np.linalg.norm(quaternion)
+        return np.concatenate([state.base_position_world, [x, y, z, w], state.joint_position])
+
+    def velocity(self, state: RobotState) -> np.ndarray:
+        """pinocchio v: base linear and angular velocity in the base frame, joint velocities."""
+        q = self.configuration(state)
+        rotation = pin.Quaternion(q[6], q[3], q[4], q[5]).toRotationMatrix()
+        return np.concatenate(
+            [
+                rotation.T @ state.base_linear_velocity_world,
+                rotation.T @ state.base_angular_velocity_world,
+                state.joint_velocity,
+            ]
+        )
+
+    def frame_positions_world(self, state: RobotState, names: list[str]) -> np.ndarray:
+        """Positions [m] of named frames in the world for `state` (forward kinematics)."""
+        pin.framesForwardKinematics(self.model, self.data, self.configuration(state))
+        return np.array([self.data.oMf[self.frame_id[n]].translation.copy() for n in names])
+
+    def com_position_world(self, state: RobotState) -> np.ndarray:
+        """Centre of mass [m]."""
+        return pin.centerOfMass(self.model, self.data, self.configuration(state)).copy()
+
+    def com_velocity_world(self, state: RobotState) -> np.ndarray:
+        """Centre-of-mass velocity [m/s]."""
+        pin.centerOfMass(self.model, self.data, self.configuration(state), self.velocity(state))
+        return self.data.vcom[0].copy()
+
+    def static_torques(self, state: RobotState, contact_frames: list[str]) -> np.ndarray:
+        """Joint torques [N m] that hold `state` at rest with the contact frames carrying the
+        weight: tau = g_j(q) - J_c,j^T lambda, where the contact wrenches lambda (6 per frame,
+        world-aligned at the frame) are the least-norm solution of the base rows
+        g_b(q) = J_c,b^T lambda (static equilibrium of the floating base)."""
+        q = self.configuration(state)
+        gravity = pin.computeGeneralizedGravity(self.model, self.data, q)
+        pin.computeJointJacobians(self.model, self.data, q)
+        pin.framesForwardKinematics(self.model, self.data, q)
+        jacobian = np.vstack(
+            [
+                pin.getFrameJacobian(
+                    self.model, self.data, self.frame_id[f], pin.LOCAL_WORLD_ALIGNED
+                )
+                for f in contact_frames
+            ]
+        )
+        wrenches = np.linalg.lstsq(jacobian[:, :6].T, gravity[:6], rcond=None)[0]
+        return gravity[6:] - jacobian[:, 6:].T @ wrenches
+
+    def standing_state(self) -> RobotState:
+        """The nominal posture with the base upright and placed so that the lowest sole centre
+        is on the ground (z = 0), the soles centred about x = 0."""
+        posture = np.array(self.robot.nominal_posture)
+        upright = RobotState.at_rest(np.zeros(3), np.array([1.0, 0.0, 0.0, 0.0]), posture)
+        soles = [limb.contact_frame for limb in self.robot.limbs if limb.name.endswith("foot")]
+        positions = self.frame_positions_world(upright, soles)
+        offset = np.array([-positions[:, 0].mean(), 0.0, -positions[:, 2].min()])
+        return RobotState.at_rest(offset, upright.base_orientation_world, posture)
+
+    def mass_properties(self) -> MassProperties:
+        """Per-joint-body mass properties (pinocchio merges the massless frame links into
+        their parent body, which leaves exactly one body per link)."""
+        model = self.model
+        names, mass, com, inertia = [], [], [], []
+        joint_to_link = {j.name: j.child for j in self.robot.joints}
+        for i in range(1, model.njoints):
+            body = model.inertias[i]
+            names.append(self.robot.base_link if i == 1 else joint_to_link[model.names[i]])
+            mass.append(body.mass)
+            com.append(body.lever.copy())
+            inertia.append(body.inertia.copy())
+        joint_idx = slice(7, model.nq)
+        return MassProperties(
+            source="pinocchio",
+            body_names=tuple(names),
+            mass=np.array(mass),
+            com_in_body=np.array(com),
+            inertia_at_com_in_body=np.array(inertia),
+            joint_names=tuple(list(model.names)[2:]),
+            joint_lower=model.lowerPositionLimit[joint_idx].copy(),
+            joint_upper=model.upperPositionLimit[joint_idx].copy(),
+        )

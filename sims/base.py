@@ -1,0 +1,219 @@
+"""The `Simulator` protocol and the logic every backend shares.
+
+A backend (MuJoCo, PyBullet) only supplies library primitives (read joints, apply torques and
+forces, step the physics, read contacts). Everything that decides what the experiment is -- the
+servo law, its rate, pushes, fall detection, the sensor contract -- lives here once, so the two
+simulators run the same experiment by construction.
+"""
+
+from __future__ import annotations
+
+import abc
+import importlib
+from dataclasses import dataclass
+from typing import Protocol
+
+import numpy as np
+
+from robots.spec import RobotDescription
+from robots.types import JointCommand, MassProperties, RobotState, Sensors
+from sims.scene import Scene
+from sims.servo import servo_torque
+
+
+class SimulatorError(RuntimeError):
+    """The physics went wrong (non-finite state, solver failure). The runner records it as the
+    episode's error; it never ends a sweep."""
+
+
+class MissingDependencyError(ImportError):
+    """An optional package is not installed; the message names the pip extra."""
+
+
+class Simulator(Protocol):
+    name: str
+
+    def reset(self, robot: RobotDescription, scene: Scene, initial: RobotState) -> Sensors: ...
+    def step(self, command: JointCommand) -> Sensors: ...
+    def push(self, link: str, impulse_world: np.ndarray, duration: float) -> None: ...
+    def ground_truth(self) -> RobotState: ...
+    def set_state(self, state: RobotState) -> None: ...
+    def fall_reason(self) -> str | None: ...
+    def mass_properties(self) -> MassProperties: ...
+    def frame_positions_world(self, names: list[str]) -> np.ndarray: ...
+    def close(self) -> None: ...
+
+
+@dataclass
+class _Push:
+    link: str
+    force_world: np.ndarray
+    steps_left: int
+
+
+def quaternion_to_matrix(quaternion_wxyz: np.ndarray) -> np.ndarray:
+    """Rotation matrix of a unit quaternion (w, x, y, z)."""
+    w, x, y, z = quaternion_wxyz
+    return np.array(
+        [
+            [1 - 2 * (y * y + z * z), 2 * (x * y - w * z), 2 * (x * z + w * y)],
+            [2 * (x * y + w * z), 1 - 2 * (x * x + z * z), 2 * (y * z - w * x)],
+            [2 * (x * z - w * y), 2 * (y * z + w * x), 1 - 2 * (x * x + y * y)],
+        ]
+    )
+
+
+def tilt_angle(quaternion_wxyz: np.ndarray) -> float:
+    """Angle [rad] between the body's z axis and the world's z axis."""
+    _, x, y, _ = quaternion_wxyz
+    cos_tilt = 1.0 - 2.0 * (x * x + y * y)
+    return float(np.arccos(np.clip(cos_tilt, -1.0, 1.0)))
+
+
+class SimulatorBase(abc.ABC):
+    """The control period, pushes and fall detection; subclasses provide the primitives."""
+
+    name: str = "base"
+
+    def __init__(self) -> None:
+        self.robot: RobotDescription | None = None
+        self.scene: Scene | None = None
+        self.time = 0.0
+        self._pushes: list[_Push] = []
+        self._fall_reason: str | None = None
+        self._torque_limit = np.zeros(0)
+        self._last_torque = np.zeros(0)
+        self._limb_links: tuple[str, ...] = ()
+
+    # ----------------------------------------------------------------- library primitives
+    @abc.abstractmethod
+    def _load(self, robot: RobotDescription, scene: Scene) -> None:
+        """Build the world (robot + scene) with the scene's time step, gravity and friction."""
+
+    @abc.abstractmethod
+    def _joint_state(self) -> tuple[np.ndarray, np.ndarray]:
+        """Joint positions [rad] and velocities [rad/s] in joint order."""
+
+    @abc.abstractmethod
+    def _physics_step(self, torque: np.ndarray, forces: list[tuple[str, np.ndarray]]) -> None:
+        """Advance one physics step with joint torques [N m] and external forces [N] (world
+        frame) applied at the named links' centres of mass."""
+
+    @abc.abstractmethod
+    def _read_sensors(self) -> Sensors:
+        """Sensors for the current state (time, torques from `self`)."""
+
+    @abc.abstractmethod
+    def _links_touching_scene(self) -> set[str]:
+        """Names of robot links in contact with the ground or a scene box."""
+
+    # ------------------------------------------------------------------------ protocol
+    def reset(self, robot: RobotDescription, scene: Scene, initial: RobotState) -> Sensors:
+        scene.validate()
+        self.close()
+        self.robot, self.scene = robot, scene
+        self.time = 0.0
+        self._pushes = []
+        self._fall_reason = None
+        self._torque_limit = robot.array("torque_limit")
+        self._last_torque = np.zeros(robot.n_joints)
+        self._limb_links = tuple(limb.link for limb in robot.limbs)
+        self._load(robot, scene)
+        self.set_state(initial)
+        return self._read_sensors()
+
+    def step(self, command: JointCommand) -> Sensors:
+        """Advance one control period: the servo law and pushes at every physics step."""
+        assert self.robot is not None and self.scene is not None, "reset() first"
+        for _ in range(self.scene.substeps):
+            q, dq = self._joint_state()
+            torque = servo_torque(command, q, dq, self._torque_limit)
+            forces = [(p.link, p.force_world) for p in self._pushes if p.steps_left > 0]
+            self._physics_step(torque, forces)
+            for p in self._pushes:
+                p.steps_left -= 1
+            self._pushes = [p for p in self._pushes if p.steps_left > 0]
+            self._last_torque = torque
+            self.time += self.scene.physics_dt
+        sensors = self._read_sensors()
+        if not (
+            np.all(np.isfinite(sensors.joint_position))
+            and np.all(np.isfinite(sensors.base_position_world))
+        ):
+            raise SimulatorError(f"{self.name}: non-finite state at t = {self.time:.3f} s")
+        if self._fall_reason is None:
+            self._fall_reason = self._detect_fall(sensors)
+        return sensors
+
+    def push(self, link: str, impulse_world: np.ndarray, duration: float) -> None:
+        """Apply a constant force impulse/duration [N] at `link`'s centre of mass for
+        `duration` [s], starting with the next physics step. The duration is rounded to whole
+        physics steps and the force set so that the impulse [N s] is exact."""
+        assert self.robot is not None and self.scene is not None, "reset() first"
+        self.robot.link(link)  # raises for an unknown link
+        impulse = np.asarray(impulse_world, dtype=float)
+        if impulse.shape != (3,) or not np.all(np.isfinite(impulse)):
+            raise ValueError("impulse_world must be 3 finite numbers [N s]")
+        if duration <= 0:
+            raise ValueError(f"push duration must be positive, got {duration} s")
+        steps = max(1, round(duration / self.scene.physics_dt))
+        force = impulse / (steps * self.scene.physics_dt)
+        self._pushes.append(_Push(link, force, steps))
+
+    def fall_reason(self) -> str | None:
+        """Why the robot counts as fallen (first cause seen), or None."""
+        return self._fall_reason
+
+    def _detect_fall(self, sensors: Sensors) -> str | None:
+        assert self.robot is not None and self.scene is not None
+        tilt = tilt_angle(sensors.base_orientation_world)
+        if tilt > self.scene.max_tilt:
+            return (
+                f"base tilt {np.rad2deg(tilt):.1f} deg above {np.rad2deg(self.scene.max_tilt):.0f}"
+            )
+        height = sensors.base_position_world[2]
+        if height < self.robot.fall_height:
+            return f"base height {height:.3f} m below {self.robot.fall_height:.3f} m"
+        touching = self._links_touching_scene() - set(self._limb_links)
+        if touching:
+            return f"{', '.join(sorted(touching))} touching the scene"
+        return None
+
+    def close(self) -> None:  # noqa: B027 - optional hook
+        """Release the library's resources."""
+
+
+# ---------------------------------------------------------------------------- registry
+@dataclass(frozen=True)
+class SimulatorSpec:
+    name: str
+    module: str
+    cls: str
+    package: str
+    extra: str
+
+    def create(self) -> Simulator:
+        try:
+            importlib.import_module(self.package)
+        except ImportError as exc:
+            raise MissingDependencyError(
+                f"simulator {self.name!r} needs the package {self.package!r}, which is not "
+                f"installed: pip install 'centrobench[{self.extra}]'"
+            ) from exc
+        return getattr(importlib.import_module(self.module), self.cls)()
+
+
+SIMULATORS: dict[str, SimulatorSpec] = {
+    "mujoco": SimulatorSpec("mujoco", "sims.mujoco_sim", "MujocoSimulator", "mujoco", "mujoco"),
+    "pybullet": SimulatorSpec(
+        "pybullet", "sims.pybullet_sim", "PybulletSimulator", "pybullet", "pybullet"
+    ),
+}
+
+
+def make_simulator(name: str) -> Simulator:
+    """A new simulator by name. Unknown names raise KeyError listing the known ones; a missing
+    package raises MissingDependencyError naming the pip extra."""
+    if name not in SIMULATORS:
+        raise KeyError(f"unknown simulator {name!r}; choose one of: {', '.join(SIMULATORS)}")
+    return SIMULATORS[name].create()

@@ -1,0 +1,223 @@
+"""MuJoCo backend: the generated MJCF loaded through `mujoco.MjSpec` (free joint at the root),
+the scene added through the same MjSpec.
+
+Physics settings (identical intent to `sims.pybullet_sim`; see README "Simulator differences"):
+- integrator Euler (semi-implicit, like Bullet), pyramidal friction cone, condim 3 (no
+  torsional or rolling friction: Bullet has none by default), friction = scene.friction;
+- contact softness solref = (0.005 s, 1.0) (stiffer than MuJoCo's default 0.02 s, as fine as a
+  1 ms step allows: timeconst >= 2 dt), solimp default; no joint armature, damping or friction.
+"""
+
+from __future__ import annotations
+
+import mujoco
+import numpy as np
+
+from robots.build import generate
+from robots.spec import RobotDescription
+from robots.types import MassProperties, RobotState, Sensors
+from sims.base import SimulatorBase, quaternion_to_matrix
+from sims.scene import Scene
+
+CONTACT_SOLREF = (0.005, 1.0)
+SCENE_CONTYPE, SCENE_CONAFFINITY = 0, 1
+
+
+def build_model(robot: RobotDescription, scene: Scene) -> mujoco.MjModel:
+    """Compile robot + scene into an MjModel with the scene's physics settings."""
+    spec = mujoco.MjSpec.from_file(str(generate(robot).mjcf))
+    spec.option.timestep = scene.physics_dt
+    spec.option.gravity = [0.0, 0.0, -scene.gravity]
+    spec.option.integrator = mujoco.mjtIntegrator.mjINT_EULER
+    spec.option.cone = mujoco.mjtCone.mjCONE_PYRAMIDAL
+    for geom in spec.geoms:
+        geom.friction = [scene.friction, 0.0, 0.0]
+        geom.condim = 3
+        geom.solref = list(CONTACT_SOLREF)
+    world = spec.worldbody
+    scene_geoms = []
+    if scene.ground:
+        scene_geoms.append(
+            world.add_geom(name="ground", type=mujoco.mjtGeom.mjGEOM_PLANE, size=[0, 0, 1.0])
+        )
+    for box in scene.boxes:
+        scene_geoms.append(
+            world.add_geom(
+                name=f"box_{box.name}",
+                type=mujoco.mjtGeom.mjGEOM_BOX,
+                size=list(box.half_extents),
+                pos=list(box.center_world),
+                quat=list(box.orientation_world),
+            )
+        )
+    for geom in scene_geoms:
+        geom.contype, geom.conaffinity = SCENE_CONTYPE, SCENE_CONAFFINITY
+        geom.friction = [scene.friction, 0.0, 0.0]
+        geom.condim = 3
+        geom.solref = list(CONTACT_SOLREF)
+    return spec.compile()
+
+
+class MujocoSimulator(SimulatorBase):
+    name = "mujoco"
+
+    def _load(self, robot: RobotDescription, scene: Scene) -> None:
+        m = self.model = build_model(robot, scene)
+        self.data = mujoco.MjData(m)
+
+        def jid(name: str) -> int:
+            return mujoco.mj_name2id(m, mujoco.mjtObj.mjOBJ_JOINT, name)
+
+        def bid(name: str) -> int:
+            return mujoco.mj_name2id(m, mujoco.mjtObj.mjOBJ_BODY, name)
+
+        def sid(name: str) -> int:
+            return mujoco.mj_name2id(m, mujoco.mjtObj.mjOBJ_SITE, name)
+
+        joint_ids = [jid(n) for n in robot.joint_names]
+        self._qpos_idx = np.array([m.jnt_qposadr[j] for j in joint_ids])
+        self._dof_idx = np.array([m.jnt_dofadr[j] for j in joint_ids])
+        actuator_ids = [
+            mujoco.mj_name2id(m, mujoco.mjtObj.mjOBJ_ACTUATOR, n) for n in robot.joint_names
+        ]
+        self._actuator_idx = np.array(actuator_ids)
+        self._root_qpos = m.jnt_qposadr[jid("root")]
+        self._root_dof = m.jnt_dofadr[jid("root")]
+        self._body_id = {link.name: bid(link.name) for link in robot.links}
+        self._body_name = {v: k for k, v in self._body_id.items()}
+        self._limb_body = np.array([self._body_id[limb.link] for limb in robot.limbs])
+        self._limb_site = np.array([sid(limb.contact_frame) for limb in robot.limbs])
+        self._site_id = {f.name: sid(f.name) for f in robot.frames}
+        self._scene_geom = np.array([m.geom_contype[g] == SCENE_CONTYPE and m.geom_conaffinity[g]
+                                     == SCENE_CONAFFINITY and m.geom_bodyid[g] == 0
+                                     for g in range(m.ngeom)])  # fmt: skip
+
+        def sensor(name: str) -> slice:
+            i = mujoco.mj_name2id(m, mujoco.mjtObj.mjOBJ_SENSOR, name)
+            return slice(m.sensor_adr[i], m.sensor_adr[i] + m.sensor_dim[i])
+
+        self._imu_quat, self._imu_gyro, self._imu_accel = (
+            sensor("imu_quat"), sensor("imu_gyro"), sensor("imu_accel")
+        )  # fmt: skip
+        self._force6 = np.zeros(6)
+
+    def set_state(self, state: RobotState) -> None:
+        d, r, v = self.data, self._root_qpos, self._root_dof
+        d.qpos[r : r + 3] = state.base_position_world
+        d.qpos[r + 3 : r + 7] = state.base_orientation_world / np.linalg.norm(
+            state.base_orientation_world
+        )
+        d.qpos[self._qpos_idx] = state.joint_position
+        rotation = quaternion_to_matrix(d.qpos[r + 3 : r + 7])
+        # Free joint velocity: linear of the body origin in world, angular in the body frame.
+        d.qvel[v : v + 3] = state.base_linear_velocity_world
+        d.qvel[v + 3 : v + 6] = rotation.T @ state.base_angular_velocity_world
+        d.qvel[self._dof_idx] = state.joint_velocity
+        d.qacc_warmstart[:] = 0.0
+        mujoco.mj_forward(self.model, d)
+
+    def ground_truth(self) -> RobotState:
+        d, r, v = self.data, self._root_qpos, self._root_dof
+        quat = d.qpos[r + 3 : r + 7].copy()
+        return RobotState(
+            base_position_world=d.qpos[r : r + 3].copy(),
+            base_orientation_world=quat,
+            base_linear_velocity_world=d.qvel[v : v + 3].copy(),
+            base_angular_velocity_world=quaternion_to_matrix(quat) @ d.qvel[v + 3 : v + 6],
+            joint_position=d.qpos[self._qpos_idx].copy(),
+            joint_velocity=d.qvel[self._dof_idx].copy(),
+        )
+
+    def _joint_state(self) -> tuple[np.ndarray, np.ndarray]:
+        return self.data.qpos[self._qpos_idx], self.data.qvel[self._dof_idx]
+
+    def _physics_step(self, torque: np.ndarray, forces: list[tuple[str, np.ndarray]]) -> None:
+        d = self.data
+        d.ctrl[self._actuator_idx] = torque
+        d.xfrc_applied[:] = 0.0
+        for link, force in forces:  # xfrc_applied acts at the body's centre of mass
+            d.xfrc_applied[self._body_id[link], :3] += force
+        mujoco.mj_step(self.model, d)
+
+    def _contacts(self):
+        """(robot body id, contact point world, force on the robot world) per active contact
+        between a robot geom and a scene geom."""
+        m, d = self.model, self.data
+        for i in range(d.ncon):
+            contact = d.contact[i]
+            g1, g2 = contact.geom1, contact.geom2
+            if self._scene_geom[g1] == self._scene_geom[g2]:
+                continue
+            mujoco.mj_contactForce(m, d, i, self._force6)
+            frame = contact.frame.reshape(3, 3)  # rows: normal (geom1 -> geom2), tangents
+            force_on_geom2 = frame.T @ self._force6[:3]
+            if self._scene_geom[g1]:
+                yield m.geom_bodyid[g2], contact.pos, force_on_geom2
+            else:
+                yield m.geom_bodyid[g1], contact.pos, -force_on_geom2
+
+    def _links_touching_scene(self) -> set[str]:
+        return {self._body_name[b] for b, _, _ in self._contacts()}
+
+    def _read_sensors(self) -> Sensors:
+        m, d = self.model, self.data
+        mujoco.mj_forward(m, d)  # sensors, contacts and poses of the state after the step
+        assert self.robot is not None
+        n_limbs = len(self.robot.limbs)
+        wrench = np.zeros((n_limbs, 6))
+        flags = np.zeros(n_limbs, dtype=bool)
+        limb_of_body = {int(b): k for k, b in enumerate(self._limb_body)}
+        for body, point, force in self._contacts():
+            k = limb_of_body.get(int(body))
+            if k is None:
+                continue
+            site = self._limb_site[k]
+            rotation = d.site_xmat[site].reshape(3, 3)
+            moment = np.cross(point - d.site_xpos[site], force)
+            wrench[k, :3] += rotation.T @ force
+            wrench[k, 3:] += rotation.T @ moment
+            flags[k] = True
+        state = self.ground_truth()
+        return Sensors(
+            time=self.time,
+            joint_position=state.joint_position,
+            joint_velocity=state.joint_velocity,
+            joint_torque=self._last_torque.copy(),
+            base_position_world=state.base_position_world,
+            base_orientation_world=state.base_orientation_world,
+            base_linear_velocity_world=state.base_linear_velocity_world,
+            base_angular_velocity_world=state.base_angular_velocity_world,
+            imu_orientation_world=d.sensordata[self._imu_quat].copy(),
+            imu_angular_velocity_imu=d.sensordata[self._imu_gyro].copy(),
+            imu_linear_acceleration_imu=d.sensordata[self._imu_accel].copy(),
+            contact_wrench_limb=wrench,
+            contact_flag_limb=flags,
+        )
+
+    def mass_properties(self) -> MassProperties:
+        m = self.model
+        assert self.robot is not None
+        bodies = [self._body_id[link.name] for link in self.robot.links]
+        inertia = []
+        for b in bodies:
+            rotation = quaternion_to_matrix(m.body_iquat[b])
+            inertia.append(rotation @ np.diag(m.body_inertia[b]) @ rotation.T)
+        joint_ids = [mujoco.mj_name2id(m, mujoco.mjtObj.mjOBJ_JOINT, n)
+                     for n in (mujoco.mj_id2name(m, mujoco.mjtObj.mjOBJ_JOINT, j)
+                               for j in range(m.njnt)) if n != "root"]  # fmt: skip
+        return MassProperties(
+            source="mujoco",
+            body_names=tuple(self._body_name[b] for b in bodies),
+            mass=m.body_mass[bodies].copy(),
+            com_in_body=m.body_ipos[bodies].copy(),
+            inertia_at_com_in_body=np.array(inertia),
+            joint_names=tuple(
+                mujoco.mj_id2name(m, mujoco.mjtObj.mjOBJ_JOINT, j) for j in joint_ids
+            ),
+            joint_lower=m.jnt_range[joint_ids, 0].copy(),
+            joint_upper=m.jnt_range[joint_ids, 1].copy(),
+        )
+
+    def frame_positions_world(self, names: list[str]) -> np.ndarray:
+        mujoco.mj_kinematics(self.model, self.data)
+        return np.array([self.data.site_xpos[self._site_id[n]] for n in names])

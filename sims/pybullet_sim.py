@@ -1,0 +1,251 @@
+"""PyBullet backend: the generated URDF loaded with URDF_USE_INERTIA_FROM_FILE, one DIRECT
+client per simulator instance.
+
+PyBullet quaternions are (x, y, z, w); they are converted to (w, x, y, z) here and nowhere else.
+PyBullet places a link's dynamic state at its centre of mass ("inertial frame"); this module
+converts to the link frame that `RobotState` and the other backends use.
+
+Physics settings (same intent as `sims.mujoco_sim`; see README "Simulator differences"):
+- default velocity motors disabled, joint torques from `sims.servo` each physics step;
+- PyBullet's default link damping (0.04 linear and angular) set to 0, joint damping 0;
+- friction: Bullet multiplies the two bodies' coefficients, so robot links get 1.0 and the
+  scene gets `scene.friction`; restitution 0; no spinning or rolling friction; no
+  self-collision (the URDF_USE_SELF_COLLISION flag is not given);
+- the IMU accelerometer is the finite difference of the IMU frame's velocity over the last
+  physics step, minus gravity (PyBullet has no IMU sensor).
+"""
+
+from __future__ import annotations
+
+import numpy as np
+import pybullet as pb
+from scipy.spatial.transform import Rotation
+
+from robots.build import generate
+from robots.spec import RobotDescription
+from robots.types import MassProperties, RobotState, Sensors
+from sims.base import SimulatorBase, SimulatorError, quaternion_to_matrix
+from sims.scene import Scene
+
+
+def _wxyz(q_xyzw) -> np.ndarray:
+    return np.array([q_xyzw[3], q_xyzw[0], q_xyzw[1], q_xyzw[2]])
+
+
+def _xyzw(q_wxyz) -> list[float]:
+    return [float(q_wxyz[1]), float(q_wxyz[2]), float(q_wxyz[3]), float(q_wxyz[0])]
+
+
+class PybulletSimulator(SimulatorBase):
+    name = "pybullet"
+
+    def __init__(self) -> None:
+        super().__init__()
+        self.client: int | None = None
+
+    def close(self) -> None:
+        if self.client is not None:
+            pb.disconnect(physicsClientId=self.client)
+            self.client = None
+
+    def _load(self, robot: RobotDescription, scene: Scene) -> None:
+        c = self.client = pb.connect(pb.DIRECT)
+        pb.setPhysicsEngineParameter(
+            fixedTimeStep=scene.physics_dt,
+            numSubSteps=0,
+            deterministicOverlappingPairs=1,
+            physicsClientId=c,
+        )
+        pb.setGravity(0.0, 0.0, -scene.gravity, physicsClientId=c)
+        body = self.body = pb.loadURDF(
+            str(generate(robot).urdf), flags=pb.URDF_USE_INERTIA_FROM_FILE, physicsClientId=c
+        )
+        index = {}
+        for j in range(pb.getNumJoints(body, physicsClientId=c)):
+            info = pb.getJointInfo(body, j, physicsClientId=c)
+            index[info[1].decode()] = j  # joint name -> index (= child link index)
+            index["link:" + info[12].decode()] = j
+        index["link:" + pb.getBodyInfo(body, physicsClientId=c)[0].decode()] = -1
+        self._index = index
+        self._joint_idx = [index[n] for n in robot.joint_names]
+        self._link_idx = {link.name: index["link:" + link.name] for link in robot.links}
+        self._link_name = {v: k for k, v in self._link_idx.items()}
+        self._limb_link = [self._link_idx[limb.link] for limb in robot.limbs]
+        self._limb_frame = [index["link:" + limb.contact_frame] for limb in robot.limbs]
+        self._imu = index["link:" + robot.imu_frame]
+        for link in [-1, *range(pb.getNumJoints(body, physicsClientId=c))]:
+            pb.changeDynamics(body, link, linearDamping=0.0, angularDamping=0.0,
+                              jointDamping=0.0, lateralFriction=1.0, spinningFriction=0.0,
+                              rollingFriction=0.0, restitution=0.0, physicsClientId=c)  # fmt: skip
+        pb.setJointMotorControlArray(body, self._joint_idx, pb.VELOCITY_CONTROL,
+                                     forces=[0.0] * robot.n_joints, physicsClientId=c)  # fmt: skip
+        self._scene_bodies = []
+        if scene.ground:
+            shape = pb.createCollisionShape(pb.GEOM_PLANE, physicsClientId=c)
+            self._scene_bodies.append(pb.createMultiBody(0.0, shape, physicsClientId=c))
+        for box in scene.boxes:
+            shape = pb.createCollisionShape(
+                pb.GEOM_BOX, halfExtents=list(box.half_extents), physicsClientId=c
+            )
+            self._scene_bodies.append(
+                pb.createMultiBody(
+                    0.0,
+                    shape,
+                    basePosition=list(box.center_world),
+                    baseOrientation=_xyzw(box.orientation_world),
+                    physicsClientId=c,
+                )
+            )
+        for scene_body in self._scene_bodies:
+            pb.changeDynamics(scene_body, -1, lateralFriction=scene.friction, restitution=0.0,
+                              spinningFriction=0.0, rollingFriction=0.0,
+                              physicsClientId=c)  # fmt: skip
+        info = pb.getDynamicsInfo(body, -1, physicsClientId=c)
+        self._base_com_in_link = np.array(info[3])
+        self._base_inertial_rotation = quaternion_to_matrix(_wxyz(info[4]))
+        self._imu_velocity_before = np.zeros(3)
+
+    # PyBullet's base pose is its inertial frame; ours is the link frame.
+    def _base_link_pose(self) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        com, orn = pb.getBasePositionAndOrientation(self.body, physicsClientId=self.client)
+        rotation_inertial = quaternion_to_matrix(_wxyz(orn))
+        rotation = rotation_inertial @ self._base_inertial_rotation.T
+        position = np.array(com) - rotation @ self._base_com_in_link
+        return position, rotation, np.array(com)
+
+    def set_state(self, state: RobotState) -> None:
+        c, body = self.client, self.body
+        quaternion = state.base_orientation_world / np.linalg.norm(state.base_orientation_world)
+        rotation = quaternion_to_matrix(quaternion)
+        com = state.base_position_world + rotation @ self._base_com_in_link
+        rotation_inertial = rotation @ self._base_inertial_rotation
+        orn = Rotation.from_matrix(rotation_inertial).as_quat()  # x, y, z, w
+        pb.resetBasePositionAndOrientation(body, com.tolist(), orn.tolist(), physicsClientId=c)
+        omega = np.asarray(state.base_angular_velocity_world, dtype=float)
+        v_com = state.base_linear_velocity_world + np.cross(omega, com - state.base_position_world)
+        pb.resetBaseVelocity(body, v_com.tolist(), omega.tolist(), physicsClientId=c)
+        for j, q, dq in zip(self._joint_idx, state.joint_position, state.joint_velocity,
+                            strict=True):  # fmt: skip
+            pb.resetJointState(body, j, float(q), float(dq), physicsClientId=c)
+        self._imu_velocity_before = self._imu_state()[2]
+
+    def ground_truth(self) -> RobotState:
+        position, rotation, com = self._base_link_pose()
+        v_com, omega = pb.getBaseVelocity(self.body, physicsClientId=self.client)
+        omega = np.array(omega)
+        v_origin = np.array(v_com) + np.cross(omega, position - com)
+        q, dq = self._joint_state()
+        x, y, z, w = Rotation.from_matrix(rotation).as_quat()
+        return RobotState(position, np.array([w, x, y, z]), v_origin, omega, q, dq)
+
+    def _joint_state(self) -> tuple[np.ndarray, np.ndarray]:
+        states = pb.getJointStates(self.body, self._joint_idx, physicsClientId=self.client)
+        return np.array([s[0] for s in states]), np.array([s[1] for s in states])
+
+    def _imu_state(self):
+        s = pb.getLinkState(self.body, self._imu, computeLinkVelocity=1,
+                            computeForwardKinematics=1, physicsClientId=self.client)  # fmt: skip
+        return np.array(s[4]), _wxyz(s[5]), np.array(s[6]), np.array(s[7])
+
+    def _physics_step(self, torque: np.ndarray, forces: list[tuple[str, np.ndarray]]) -> None:
+        c, body = self.client, self.body
+        pb.setJointMotorControlArray(body, self._joint_idx, pb.TORQUE_CONTROL,
+                                     forces=torque.tolist(), physicsClientId=c)  # fmt: skip
+        for link, force in forces:  # cleared by PyBullet after every step
+            index = self._link_idx[link]
+            if index == -1:
+                com = pb.getBasePositionAndOrientation(body, physicsClientId=c)[0]
+            else:
+                com = pb.getLinkState(body, index, computeForwardKinematics=1,
+                                      physicsClientId=c)[0]  # fmt: skip
+            pb.applyExternalForce(body, index, force.tolist(), list(com), pb.WORLD_FRAME,
+                                  physicsClientId=c)  # fmt: skip
+        self._imu_velocity_before = self._imu_state()[2]
+        pb.stepSimulation(physicsClientId=c)
+
+    def _contacts(self):
+        """(link index, point world, force on the robot world) per touching contact point."""
+        c = self.client
+        for scene_body in self._scene_bodies:
+            for p in pb.getContactPoints(bodyA=self.body, bodyB=scene_body, physicsClientId=c):
+                if p[8] > 0.0 and p[9] <= 0.0:  # separated and carrying no force
+                    continue
+                force = (p[9] * np.array(p[7]) + p[10] * np.array(p[11])
+                         + p[12] * np.array(p[13]))  # fmt: skip
+                yield p[3], np.array(p[6]), force
+
+    def _links_touching_scene(self) -> set[str]:
+        return {self._link_name.get(link, f"link {link}") for link, _, _ in self._contacts()}
+
+    def _read_sensors(self) -> Sensors:
+        assert self.robot is not None and self.scene is not None
+        c = self.client
+        n_limbs = len(self.robot.limbs)
+        wrench = np.zeros((n_limbs, 6))
+        flags = np.zeros(n_limbs, dtype=bool)
+        frames = pb.getLinkStates(self.body, self._limb_frame, computeForwardKinematics=1,
+                                  physicsClientId=c)  # fmt: skip
+        limb_of_link = {link: k for k, link in enumerate(self._limb_link)}
+        for link, point, force in self._contacts():
+            k = limb_of_link.get(link)
+            if k is None:
+                continue
+            origin = np.array(frames[k][4])
+            rotation = quaternion_to_matrix(_wxyz(frames[k][5]))
+            wrench[k, :3] += rotation.T @ force
+            wrench[k, 3:] += rotation.T @ np.cross(point - origin, force)
+            flags[k] = True
+        state = self.ground_truth()
+        _, imu_quat, imu_velocity, imu_omega = self._imu_state()
+        imu_rotation = quaternion_to_matrix(imu_quat)
+        acceleration = (imu_velocity - self._imu_velocity_before) / self.scene.physics_dt
+        specific_force = acceleration + np.array([0.0, 0.0, self.scene.gravity])
+        if not np.all(np.isfinite(state.base_position_world)):
+            raise SimulatorError(f"pybullet: non-finite base position at t = {self.time:.3f} s")
+        return Sensors(
+            time=self.time,
+            joint_position=state.joint_position,
+            joint_velocity=state.joint_velocity,
+            joint_torque=self._last_torque.copy(),
+            base_position_world=state.base_position_world,
+            base_orientation_world=state.base_orientation_world,
+            base_linear_velocity_world=state.base_linear_velocity_world,
+            base_angular_velocity_world=state.base_angular_velocity_world,
+            imu_orientation_world=imu_quat,
+            imu_angular_velocity_imu=imu_rotation.T @ imu_omega,
+            imu_linear_acceleration_imu=imu_rotation.T @ specific_force,
+            contact_wrench_limb=wrench,
+            contact_flag_limb=flags,
+        )
+
+    def mass_properties(self) -> MassProperties:
+        c, body = self.client, self.body
+        names, mass, com, inertia = [], [], [], []
+        for link in [-1, *range(pb.getNumJoints(body, physicsClientId=c))]:
+            info = pb.getDynamicsInfo(body, link, physicsClientId=c)
+            if info[0] <= 0.0:
+                continue  # massless frame links
+            rotation = quaternion_to_matrix(_wxyz(info[4]))
+            names.append(self._link_name[link])
+            mass.append(info[0])
+            com.append(np.array(info[3]))
+            inertia.append(rotation @ np.diag(info[2]) @ rotation.T)
+        joints = [pb.getJointInfo(body, j, physicsClientId=c)
+                  for j in range(pb.getNumJoints(body, physicsClientId=c))]  # fmt: skip
+        revolute = [j for j in joints if j[2] == pb.JOINT_REVOLUTE]
+        return MassProperties(
+            source="pybullet",
+            body_names=tuple(names),
+            mass=np.array(mass),
+            com_in_body=np.array(com),
+            inertia_at_com_in_body=np.array(inertia),
+            joint_names=tuple(j[1].decode() for j in revolute),
+            joint_lower=np.array([j[8] for j in revolute]),
+            joint_upper=np.array([j[9] for j in revolute]),
+        )
+
+    def frame_positions_world(self, names: list[str]) -> np.ndarray:
+        states = pb.getLinkStates(self.body, [self._index["link:" + n] for n in names],
+                                  computeForwardKinematics=1,
+                                  physicsClientId=self.client)  # fmt: skip
+        return np.array([s[4] for s in states])
