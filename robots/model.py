@@ -13,7 +13,7 @@ import pinocchio as pin
 
 from robots.build import generate
 from robots.spec import RobotDescription
-from robots.types import MassProperties, RobotState
+from robots.types import JointCommand, MassProperties, RobotState
 
 
 class RobotModel:
@@ -84,6 +84,19 @@ class RobotModel:
         )
         wrenches = np.linalg.lstsq(jacobian[:, :6].T, gravity[:6], rcond=None)[0]
         return gravity[6:] - jacobian[:, 6:].T @ wrenches
+
+    def hold_command(self, state: RobotState) -> JointCommand:
+        """Servo targets that hold `state`'s posture with the description's gains and the
+        static feed-forward torques of `static_torques` with the weight on the feet."""
+        robot = self.robot
+        feet = [limb.contact_frame for limb in robot.limbs if limb.name.endswith("foot")]
+        return JointCommand(
+            position=np.array(state.joint_position, dtype=float),
+            velocity=np.zeros(robot.n_joints),
+            torque_feedforward=self.static_torques(state, feet),
+            kp=robot.array("kp"),
+            kd=robot.array("kd"),
+        )
 
     def standing_state(self) -> RobotState:
         """The nominal posture with the base upright and placed so that the lowest sole centre

@@ -1,0 +1,287 @@
+"""Physics facts each simulator must show, and the two simulators' agreement.
+
+A robot holding its standing posture (servo law + static feed-forward) with a free base:
+it stands 5 s, its feet carry m g, horizontal foot forces vanish, the CoM stays put and the
+centre of pressure sits under the CoM. With gravity off a push changes the CoM velocity by J/m.
+With gravity on, the momentum balance m dv = J_push + J_contact + m g T holds, which checks the
+sign and frame of every reported contact force. Both simulators report the same standing sensors.
+"""
+
+from dataclasses import dataclass
+
+import numpy as np
+import pytest
+
+from robots.humanoid import humanoid
+from robots.model import RobotModel
+from robots.types import JointCommand, RobotState, Sensors
+from sims.base import make_simulator
+from sims.scene import Box, Scene
+
+SIMS = ["mujoco", "pybullet"]
+G = 9.81
+
+
+@dataclass
+class Trace:
+    sensors: list[Sensors]
+    com: np.ndarray  # (n, 3) [m]
+    com_velocity: np.ndarray  # (n, 3) [m/s]
+    contact_force_world: np.ndarray  # (n, 3) summed over limbs [N]
+    cop_world: np.ndarray  # (n, 2) centre of pressure of all foot contacts [m]
+    fall_reason: str | None
+    dt: float
+
+
+@pytest.fixture(scope="module")
+def robot():
+    return humanoid()
+
+
+@pytest.fixture(scope="module")
+def model(robot):
+    return RobotModel(robot)
+
+
+def simulate(robot, model, sim_name, scene, initial, duration, command=None, push=None) -> Trace:
+    """Run `duration` [s] holding `initial`'s posture; `push` = (time, link, impulse, length)."""
+    command = command or model.hold_command(initial)
+    sim = make_simulator(sim_name)
+    limb_frames = [limb.contact_frame for limb in robot.limbs]
+    sensors, coms, vcoms, forces, cops = [], [], [], [], []
+    try:
+        sim.reset(robot, scene, initial)
+        for _ in range(round(duration / scene.control_dt)):
+            if push is not None and abs(sim.time - push[0]) < 1e-9:
+                sim.push(push[1], np.asarray(push[2], dtype=float), push[3])
+            s = sim.step(command)
+            state = s.ground_truth()
+            sensors.append(s)
+            coms.append(model.com_position_world(state))
+            vcoms.append(model.com_velocity_world(state))
+            # contact wrenches from each limb frame to the world, about the world origin
+            model.frame_positions_world(state, limb_frames)
+            force_total, moment_total = np.zeros(3), np.zeros(3)
+            for k, frame in enumerate(limb_frames):
+                placement = model.data.oMf[model.frame_id[frame]]
+                rotation, origin = placement.rotation, placement.translation
+                f = rotation @ s.contact_wrench_limb[k, :3]
+                n = rotation @ s.contact_wrench_limb[k, 3:]
+                force_total += f
+                moment_total += n + np.cross(origin, f)
+            forces.append(force_total)
+            fz = max(force_total[2], 1e-9)
+            cops.append([-moment_total[1] / fz, moment_total[0] / fz])  # ground at z = 0
+        fall = sim.fall_reason()
+    finally:
+        sim.close()
+    return Trace(sensors, np.array(coms), np.array(vcoms), np.array(forces), np.array(cops),
+                 fall, scene.control_dt)  # fmt: skip
+
+
+@pytest.fixture(scope="module")
+def standing(robot, model):
+    initial = model.standing_state()
+    return {name: simulate(robot, model, name, Scene(), initial, 5.0) for name in SIMS}
+
+
+def settled(trace: Trace, after: float = 0.5) -> slice:
+    return slice(round(after / trace.dt), None)
+
+
+@pytest.mark.parametrize("sim_name", SIMS)
+def test_stands_five_seconds(standing, sim_name):
+    trace = standing[sim_name]
+    assert trace.fall_reason is None
+    assert len(trace.sensors) == 2500
+    assert trace.sensors[-1].time == pytest.approx(5.0)
+    assert all(s.contact_flag_limb[:2].all() for s in trace.sensors[250:])
+    assert not any(s.contact_flag_limb[2:].any() for s in trace.sensors)
+
+
+@pytest.mark.parametrize("sim_name", SIMS)
+def test_feet_carry_the_weight(robot, standing, sim_name):
+    trace = standing[sim_name]
+    weight = robot.total_mass * G
+    vertical = trace.contact_force_world[settled(trace), 2]
+    assert np.all(np.abs(vertical - weight) <= 0.02 * weight)
+    # and the per-foot sensors carry it in their own frames, half each by symmetry
+    last = trace.sensors[-1].contact_wrench_limb
+    np.testing.assert_allclose(last[:2, 2], weight / 2, rtol=0.02)
+
+
+@pytest.mark.parametrize("sim_name", SIMS)
+def test_horizontal_foot_forces_vanish(robot, standing, sim_name):
+    trace = standing[sim_name]
+    horizontal = np.linalg.norm(trace.contact_force_world[settled(trace), :2], axis=1)
+    assert horizontal.max() <= 0.005 * robot.total_mass * G  # 2.9 N for 58 kg
+
+
+@pytest.mark.parametrize("sim_name", SIMS)
+def test_com_stays_put(standing, sim_name):
+    trace = standing[sim_name]
+    com = trace.com[:, :2]
+    assert np.linalg.norm(com[settled(trace)] - com[settled(trace)][0], axis=1).max() < 0.005
+    assert np.linalg.norm(com - com[0], axis=1).max() < 0.005
+
+
+@pytest.mark.parametrize("sim_name", SIMS)
+def test_centre_of_pressure_under_the_com(standing, sim_name):
+    # At rest the ground reaction passes through the CoM: CoP = CoM ground projection.
+    trace = standing[sim_name]
+    gap = np.linalg.norm(trace.cop_world[settled(trace, 1.0)] - trace.com[settled(trace, 1.0), :2],
+                         axis=1)  # fmt: skip
+    assert gap.max() < 0.002
+
+
+@pytest.mark.parametrize("sim_name", SIMS)
+def test_imu_at_rest_reads_gravity(standing, sim_name):
+    s = standing[sim_name].sensors[-1]
+    w, x, y, z = s.imu_orientation_world
+    up_in_imu = np.array([2 * (x * z - w * y), 2 * (y * z + w * x), 1 - 2 * (x * x + y * y)])
+    np.testing.assert_allclose(s.imu_linear_acceleration_imu, G * up_in_imu, atol=0.05)
+    np.testing.assert_allclose(s.imu_angular_velocity_imu, 0.0, atol=0.01)
+    # the IMU is fixed to the torso with the torso's axes
+    sign = np.sign(s.imu_orientation_world @ s.base_orientation_world)
+    np.testing.assert_allclose(sign * s.imu_orientation_world, s.base_orientation_world, atol=1e-9)
+
+
+def test_standing_sensors_agree_between_simulators(robot, standing):
+    """Tolerances: forces 1 % of m g (5.7 N), moments 1 N m, orientation 1e-3, angular rate
+    0.01 rad/s, specific force 0.05 m/s^2, joint positions 1e-3 rad, torques 1 N m, averaged
+    over the last second."""
+    window = slice(-500, None)
+    a, b = (standing[name].sensors[window] for name in SIMS)
+
+    def mean(sensors, attribute):
+        return np.mean([getattr(s, attribute) for s in sensors], axis=0)
+
+    weight = robot.total_mass * G
+    wa, wb = mean(a, "contact_wrench_limb"), mean(b, "contact_wrench_limb")
+    np.testing.assert_allclose(wa[:, :3], wb[:, :3], atol=0.01 * weight)
+    np.testing.assert_allclose(wa[:, 3:], wb[:, 3:], atol=1.0)
+    np.testing.assert_allclose(mean(a, "imu_orientation_world"),
+                               mean(b, "imu_orientation_world"), atol=1e-3)  # fmt: skip
+    np.testing.assert_allclose(mean(a, "imu_angular_velocity_imu"),
+                               mean(b, "imu_angular_velocity_imu"), atol=0.01)  # fmt: skip
+    np.testing.assert_allclose(mean(a, "imu_linear_acceleration_imu"),
+                               mean(b, "imu_linear_acceleration_imu"), atol=0.05)  # fmt: skip
+    np.testing.assert_allclose(mean(a, "joint_position"), mean(b, "joint_position"), atol=1e-3)
+    np.testing.assert_allclose(mean(a, "joint_torque"), mean(b, "joint_torque"), atol=1.0)
+
+
+@pytest.mark.parametrize("sim_name", SIMS)
+def test_push_in_free_fall_changes_com_velocity_by_impulse_over_mass(robot, model, sim_name):
+    scene = Scene(ground=False, gravity=0.0)
+    initial = model.standing_state()
+    impulse = np.array([12.0, -7.0, 3.0])  # [N s]
+    hold = model.hold_command(initial)
+    hold = JointCommand(hold.position, hold.velocity, np.zeros(robot.n_joints), hold.kp, hold.kd)
+    trace = simulate(robot, model, sim_name, scene, initial, 0.4, command=hold,
+                     push=(0.1, "torso", impulse, 0.1))  # fmt: skip
+    before, after = trace.com_velocity[round(0.08 / trace.dt)], trace.com_velocity[-1]
+    np.testing.assert_allclose(before, 0.0, atol=1e-9)  # nothing external yet: at rest
+    expected = impulse / robot.total_mass
+    assert np.linalg.norm(after - before - expected) <= 0.02 * np.linalg.norm(expected)
+
+
+@pytest.mark.parametrize("sim_name", SIMS)
+def test_momentum_balance_with_contacts(robot, model, sim_name):
+    """m (v_end - v_start) = J_push + sum(contact force) dt + m g T: the reported contact forces
+    have the right sign and frame, friction included (the push is horizontal)."""
+    initial = model.standing_state()
+    impulse = np.array([6.0, 4.0, 0.0])
+    trace = simulate(robot, model, sim_name, Scene(), initial, 1.5,
+                     push=(0.5, "torso", impulse, 0.1))  # fmt: skip
+    assert trace.fall_reason is None
+    start = round(0.4 / trace.dt)
+    mass = robot.total_mass
+    momentum_change = mass * (trace.com_velocity[-1] - trace.com_velocity[start])
+    contact_impulse = trace.contact_force_world[start + 1 :].sum(axis=0) * trace.dt
+    gravity_impulse = np.array([0.0, 0.0, -mass * G]) * (len(trace.sensors) - start - 1) * trace.dt
+    residual = momentum_change - (impulse + contact_impulse + gravity_impulse)
+    # Contact forces are sampled once per 2 ms control period, the physics runs at 1 ms.
+    assert np.abs(residual[:2]).max() <= 0.1 * np.abs(impulse).max()
+    assert abs(residual[2]) <= 0.01 * mass * G * 1.1
+    # the friction opposed the push
+    assert contact_impulse[0] < 0 and contact_impulse[1] < 0
+
+
+@pytest.mark.parametrize("sim_name", SIMS)
+def test_scene_box_supports_the_robot(robot, model, sim_name):
+    height = 0.1
+    scene = Scene(boxes=(Box("platform", (0.0, 0.0, height / 2), (0.5, 0.5, height / 2)),))
+    ground_state = model.standing_state()
+    initial = RobotState.at_rest(ground_state.base_position_world + [0, 0, height],
+                                 ground_state.base_orientation_world,
+                                 ground_state.joint_position)  # fmt: skip
+    trace = simulate(
+        robot, model, sim_name, scene, initial, 1.0, command=model.hold_command(initial)
+    )
+    assert trace.fall_reason is None
+    weight = robot.total_mass * G
+    np.testing.assert_allclose(trace.contact_force_world[-1, 2], weight, rtol=0.02)
+    assert trace.sensors[-1].base_position_world[2] == pytest.approx(
+        initial.base_position_world[2], abs=0.01
+    )
+
+
+@pytest.mark.parametrize("sim_name", SIMS)
+def test_palm_contact_is_sensed(robot, model, sim_name):
+    """A box 3 mm under the left hand pad (forearm vertical, pad level); the knees bend so
+    that the body goes down about 4 mm and the pad presses on the box. The palm senses a pushing force along its z axis, and feet plus palm carry the robot's
+    weight (how the weight splits between three supports is statically indeterminate and
+    depends on contact compliance, so that is not compared)."""
+    standing = model.standing_state()
+    q = np.array(standing.joint_position)
+    for joint, angle in (("shoulder_pitch", 0.2), ("shoulder_roll", 0.0), ("elbow", -0.2)):
+        q[robot.joint_names.index(f"left_{joint}")] = angle  # forearm vertical: pad level
+    initial = RobotState.at_rest(standing.base_position_world, standing.base_orientation_world, q)
+    palm = model.frame_positions_world(initial, ["left_palm"])[0]
+    top = palm[2] - 0.003
+    scene = Scene(boxes=(Box("table", (palm[0], palm[1], top / 2), (0.06, 0.03, top / 2)),))
+    hold = model.hold_command(initial)
+    position = hold.position.copy()
+    for side in ("left", "right"):
+        position[robot.joint_names.index(f"{side}_knee")] += 0.033
+        position[robot.joint_names.index(f"{side}_hip_pitch")] -= 0.0165
+        position[robot.joint_names.index(f"{side}_ankle_pitch")] -= 0.0165
+    press = JointCommand(position, hold.velocity, hold.torque_feedforward, hold.kp, hold.kd)
+    trace = simulate(robot, model, sim_name, scene, initial, 2.0, command=press)
+    assert trace.fall_reason is None
+    hand = robot.limb_names.index("left_hand")
+    assert not trace.sensors[0].contact_flag_limb[hand]
+    window = trace.sensors[-250:]
+    assert all(s.contact_flag_limb[hand] for s in window)
+    assert np.mean([s.contact_wrench_limb[hand, 2] for s in window]) > 5.0
+    assert not any(s.contact_flag_limb[robot.limb_names.index("right_hand")] for s in window)
+    mean_vertical = trace.contact_force_world[-250:, 2].mean()
+    np.testing.assert_allclose(mean_vertical, robot.total_mass * G, rtol=0.02)
+
+
+@pytest.mark.parametrize("sim_name", SIMS)
+def test_limp_robot_falls_and_is_detected(robot, model, sim_name):
+    initial = model.standing_state()
+    n = robot.n_joints
+    limp = JointCommand(np.zeros(n), np.zeros(n), np.zeros(n), np.zeros(n), np.zeros(n))
+    trace = simulate(robot, model, sim_name, Scene(), initial, 3.0, command=limp)
+    assert trace.fall_reason is not None
+
+
+@pytest.mark.parametrize("sim_name", SIMS)
+def test_body_touching_ground_is_a_fall(robot, model, sim_name):
+    # Kneeling: knees bent far enough that the shanks touch the ground, base upright and high.
+    initial = model.standing_state()
+    sim = make_simulator(sim_name)
+    try:
+        sim.reset(robot, Scene(), initial)
+        q = np.array(initial.joint_position)
+        for side in ("left", "right"):
+            q[robot.joint_names.index(f"{side}_knee")] = 1.6
+            q[robot.joint_names.index(f"{side}_hip_pitch")] = 0.0
+        kneeling = RobotState.at_rest([0.0, 0.0, 0.48], initial.base_orientation_world, q)
+        sim.set_state(kneeling)
+        sim.step(model.hold_command(kneeling))
+        assert "touching the scene" in (sim.fall_reason() or "")
+    finally:
+        sim.close()
