@@ -28,7 +28,6 @@ from robots.types import MassProperties, RobotState, Sensors
 from sims.base import SimulatorBase, SimulatorError, quaternion_to_matrix
 from sims.scene import Scene
 
-
 CONTACT_ERP = 0.0
 """PyBullet's penetration-recovery gain. With its default (0.2) the `normalForce` it reports
 includes the penetration-recovery impulse, which does not change momentum: with a hand pressed

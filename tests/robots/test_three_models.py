@@ -58,7 +58,7 @@ def _random_states(robot, n, seed):
     for _ in range(n):
         quaternion = rng.normal(size=4)
         yield RobotState.at_rest(
-            rng.uniform(-1.0, 1.0, 3) + [0, 0, 1.5],
+            rng.uniform(-1.0, 1.0, 3) + np.array([0.0, 0.0, 1.5]),
             quaternion / np.linalg.norm(quaternion),
             rng.uniform(robot.array("lower"), robot.array("upper")),
         )

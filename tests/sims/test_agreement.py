@@ -204,7 +204,8 @@ def test_momentum_balance_with_contacts(robot, model, sim_name):
     assert np.abs(residual[:2]).max() <= 0.1 * np.abs(impulse).max()
     assert abs(residual[2]) <= 0.01 * mass * G * 1.1
     # the friction opposed the push
-    assert contact_impulse[0] < 0 and contact_impulse[1] < 0
+    assert contact_impulse[0] < 0
+    assert contact_impulse[1] < 0
 
 
 @pytest.mark.parametrize("sim_name", SIMS)
@@ -212,7 +213,7 @@ def test_scene_box_supports_the_robot(robot, model, sim_name):
     height = 0.1
     scene = Scene(boxes=(Box("platform", (0.0, 0.0, height / 2), (0.5, 0.5, height / 2)),))
     ground_state = model.standing_state()
-    initial = RobotState.at_rest(ground_state.base_position_world + [0, 0, height],
+    initial = RobotState.at_rest(ground_state.base_position_world + np.array([0.0, 0.0, height]),
                                  ground_state.base_orientation_world,
                                  ground_state.joint_position)  # fmt: skip
     trace = simulate(
@@ -229,9 +230,10 @@ def test_scene_box_supports_the_robot(robot, model, sim_name):
 @pytest.mark.parametrize("sim_name", SIMS)
 def test_palm_contact_is_sensed(robot, model, sim_name):
     """A box 3 mm under the left hand pad (forearm vertical, pad level); the knees bend so
-    that the body goes down about 4 mm and the pad presses on the box. The palm senses a pushing force along its z axis, and feet plus palm carry the robot's
-    weight (how the weight splits between three supports is statically indeterminate and
-    depends on contact compliance, so that is not compared)."""
+    that the body goes down about 4 mm and the pad presses on the box. The palm senses a
+    pushing force along its z axis, and feet plus palm carry the robot's weight (how the
+    weight splits between three supports is statically indeterminate and depends on contact
+    compliance, so that is not compared)."""
     standing = model.standing_state()
     q = np.array(standing.joint_position)
     for joint, angle in (("shoulder_pitch", 0.2), ("shoulder_roll", 0.0), ("elbow", -0.2)):
