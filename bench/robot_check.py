@@ -53,9 +53,15 @@ def discrepancy(reference: MassProperties, other: MassProperties) -> Discrepancy
             )
         )
     return Discrepancy(
-        reference.source, other.source, mass_rel, com, inertia_rel, same_bodies, same_joints,
+        reference.source,
+        other.source,
+        mass_rel,
+        com,
+        inertia_rel,
+        same_bodies,
+        same_joints,
         limits,
-    )  # fmt: skip
+    )
 
 
 def all_mass_properties(robot: RobotDescription) -> list[MassProperties]:

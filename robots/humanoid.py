@@ -50,10 +50,17 @@ _ARM_JOINTS = {
     "elbow": ((-2.4, 0.0), 6.0, 60.0, 200.0, 3.0),
 }
 _NOMINAL = {
-    "hip_yaw": 0.0, "hip_roll": 0.0, "hip_pitch": -0.35, "knee": 0.7, "ankle_pitch": -0.35,
-    "ankle_roll": 0.0, "shoulder_pitch": 0.1, "shoulder_roll": 0.15, "shoulder_yaw": 0.0,
+    "hip_yaw": 0.0,
+    "hip_roll": 0.0,
+    "hip_pitch": -0.35,
+    "knee": 0.7,
+    "ankle_pitch": -0.35,
+    "ankle_roll": 0.0,
+    "shoulder_pitch": 0.1,
+    "shoulder_roll": 0.15,
+    "shoulder_yaw": 0.0,
     "elbow": -0.4,
-}  # fmt: skip
+}
 _MIRRORED = {"hip_roll", "hip_yaw", "ankle_roll", "shoulder_roll", "shoulder_yaw"}
 
 

@@ -88,17 +88,24 @@ class MujocoSimulator(SimulatorBase):
         self._limb_body = np.array([self._body_id[limb.link] for limb in robot.limbs])
         self._limb_site = np.array([sid(limb.contact_frame) for limb in robot.limbs])
         self._site_id = {f.name: sid(f.name) for f in robot.frames}
-        self._scene_geom = np.array([m.geom_contype[g] == SCENE_CONTYPE and m.geom_conaffinity[g]
-                                     == SCENE_CONAFFINITY and m.geom_bodyid[g] == 0
-                                     for g in range(m.ngeom)])  # fmt: skip
+        self._scene_geom = np.array(
+            [
+                m.geom_contype[g] == SCENE_CONTYPE
+                and m.geom_conaffinity[g] == SCENE_CONAFFINITY
+                and m.geom_bodyid[g] == 0
+                for g in range(m.ngeom)
+            ]
+        )
 
         def sensor(name: str) -> slice:
             i = mujoco.mj_name2id(m, mujoco.mjtObj.mjOBJ_SENSOR, name)
             return slice(m.sensor_adr[i], m.sensor_adr[i] + m.sensor_dim[i])
 
         self._imu_quat, self._imu_gyro, self._imu_accel = (
-            sensor("imu_quat"), sensor("imu_gyro"), sensor("imu_accel")
-        )  # fmt: skip
+            sensor("imu_quat"),
+            sensor("imu_gyro"),
+            sensor("imu_accel"),
+        )
         self._force6 = np.zeros(6)
 
     def set_state(self, state: RobotState) -> None:
@@ -202,9 +209,11 @@ class MujocoSimulator(SimulatorBase):
         for b in bodies:
             rotation = quaternion_to_matrix(m.body_iquat[b])
             inertia.append(rotation @ np.diag(m.body_inertia[b]) @ rotation.T)
-        joint_ids = [mujoco.mj_name2id(m, mujoco.mjtObj.mjOBJ_JOINT, n)
-                     for n in (mujoco.mj_id2name(m, mujoco.mjtObj.mjOBJ_JOINT, j)
-                               for j in range(m.njnt)) if n != "root"]  # fmt: skip
+        joint_ids = [
+            mujoco.mj_name2id(m, mujoco.mjtObj.mjOBJ_JOINT, n)
+            for n in (mujoco.mj_id2name(m, mujoco.mjtObj.mjOBJ_JOINT, j) for j in range(m.njnt))
+            if n != "root"
+        ]
         return MassProperties(
             source="mujoco",
             body_names=tuple(self._body_name[b] for b in bodies),

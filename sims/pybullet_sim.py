@@ -84,11 +84,25 @@ class PybulletSimulator(SimulatorBase):
         self._limb_frame = [index["link:" + limb.contact_frame] for limb in robot.limbs]
         self._imu = index["link:" + robot.imu_frame]
         for link in [-1, *range(pb.getNumJoints(body, physicsClientId=c))]:
-            pb.changeDynamics(body, link, linearDamping=0.0, angularDamping=0.0,
-                              jointDamping=0.0, lateralFriction=1.0, spinningFriction=0.0,
-                              rollingFriction=0.0, restitution=0.0, physicsClientId=c)  # fmt: skip
-        pb.setJointMotorControlArray(body, self._joint_idx, pb.VELOCITY_CONTROL,
-                                     forces=[0.0] * robot.n_joints, physicsClientId=c)  # fmt: skip
+            pb.changeDynamics(
+                body,
+                link,
+                linearDamping=0.0,
+                angularDamping=0.0,
+                jointDamping=0.0,
+                lateralFriction=1.0,
+                spinningFriction=0.0,
+                rollingFriction=0.0,
+                restitution=0.0,
+                physicsClientId=c,
+            )
+        pb.setJointMotorControlArray(
+            body,
+            self._joint_idx,
+            pb.VELOCITY_CONTROL,
+            forces=[0.0] * robot.n_joints,
+            physicsClientId=c,
+        )
         self._scene_bodies = []
         if scene.ground:
             shape = pb.createCollisionShape(pb.GEOM_PLANE, physicsClientId=c)
@@ -107,9 +121,15 @@ class PybulletSimulator(SimulatorBase):
                 )
             )
         for scene_body in self._scene_bodies:
-            pb.changeDynamics(scene_body, -1, lateralFriction=scene.friction, restitution=0.0,
-                              spinningFriction=0.0, rollingFriction=0.0,
-                              physicsClientId=c)  # fmt: skip
+            pb.changeDynamics(
+                scene_body,
+                -1,
+                lateralFriction=scene.friction,
+                restitution=0.0,
+                spinningFriction=0.0,
+                rollingFriction=0.0,
+                physicsClientId=c,
+            )
         info = pb.getDynamicsInfo(body, -1, physicsClientId=c)
         self._base_com_in_link = np.array(info[3])
         self._base_inertial_rotation = quaternion_to_matrix(_wxyz(info[4]))
@@ -134,8 +154,9 @@ class PybulletSimulator(SimulatorBase):
         omega = np.asarray(state.base_angular_velocity_world, dtype=float)
         v_com = state.base_linear_velocity_world + np.cross(omega, com - state.base_position_world)
         pb.resetBaseVelocity(body, v_com.tolist(), omega.tolist(), physicsClientId=c)
-        for j, q, dq in zip(self._joint_idx, state.joint_position, state.joint_velocity,
-                            strict=True):  # fmt: skip
+        for j, q, dq in zip(
+            self._joint_idx, state.joint_position, state.joint_velocity, strict=True
+        ):
             pb.resetJointState(body, j, float(q), float(dq), physicsClientId=c)
         self._imu_velocity_before = self._imu_state()[2]
 
@@ -153,23 +174,29 @@ class PybulletSimulator(SimulatorBase):
         return np.array([s[0] for s in states]), np.array([s[1] for s in states])
 
     def _imu_state(self):
-        s = pb.getLinkState(self.body, self._imu, computeLinkVelocity=1,
-                            computeForwardKinematics=1, physicsClientId=self.client)  # fmt: skip
+        s = pb.getLinkState(
+            self.body,
+            self._imu,
+            computeLinkVelocity=1,
+            computeForwardKinematics=1,
+            physicsClientId=self.client,
+        )
         return np.array(s[4]), _wxyz(s[5]), np.array(s[6]), np.array(s[7])
 
     def _physics_step(self, torque: np.ndarray, forces: list[tuple[str, np.ndarray]]) -> None:
         c, body = self.client, self.body
-        pb.setJointMotorControlArray(body, self._joint_idx, pb.TORQUE_CONTROL,
-                                     forces=torque.tolist(), physicsClientId=c)  # fmt: skip
+        pb.setJointMotorControlArray(
+            body, self._joint_idx, pb.TORQUE_CONTROL, forces=torque.tolist(), physicsClientId=c
+        )
         for link, force in forces:  # cleared by PyBullet after every step
             index = self._link_idx[link]
             if index == -1:
                 com = pb.getBasePositionAndOrientation(body, physicsClientId=c)[0]
             else:
-                com = pb.getLinkState(body, index, computeForwardKinematics=1,
-                                      physicsClientId=c)[0]  # fmt: skip
-            pb.applyExternalForce(body, index, force.tolist(), list(com), pb.WORLD_FRAME,
-                                  physicsClientId=c)  # fmt: skip
+                com = pb.getLinkState(body, index, computeForwardKinematics=1, physicsClientId=c)[0]
+            pb.applyExternalForce(
+                body, index, force.tolist(), list(com), pb.WORLD_FRAME, physicsClientId=c
+            )
         self._imu_velocity_before = self._imu_state()[2]
         pb.stepSimulation(physicsClientId=c)
 
@@ -180,8 +207,7 @@ class PybulletSimulator(SimulatorBase):
             for p in pb.getContactPoints(bodyA=self.body, bodyB=scene_body, physicsClientId=c):
                 if p[8] > 0.0 and p[9] <= 0.0:  # separated and carrying no force
                     continue
-                force = (p[9] * np.array(p[7]) + p[10] * np.array(p[11])
-                         + p[12] * np.array(p[13]))  # fmt: skip
+                force = p[9] * np.array(p[7]) + p[10] * np.array(p[11]) + p[12] * np.array(p[13])
                 yield p[3], np.array(p[6]), force
 
     def _links_touching_scene(self) -> set[str]:
@@ -193,8 +219,9 @@ class PybulletSimulator(SimulatorBase):
         n_limbs = len(self.robot.limbs)
         wrench = np.zeros((n_limbs, 6))
         flags = np.zeros(n_limbs, dtype=bool)
-        frames = pb.getLinkStates(self.body, self._limb_frame, computeForwardKinematics=1,
-                                  physicsClientId=c)  # fmt: skip
+        frames = pb.getLinkStates(
+            self.body, self._limb_frame, computeForwardKinematics=1, physicsClientId=c
+        )
         limb_of_link = {link: k for k, link in enumerate(self._limb_link)}
         for link, point, force in self._contacts():
             k = limb_of_link.get(link)
@@ -240,8 +267,10 @@ class PybulletSimulator(SimulatorBase):
             mass.append(info[0])
             com.append(np.array(info[3]))
             inertia.append(rotation @ np.diag(info[2]) @ rotation.T)
-        joints = [pb.getJointInfo(body, j, physicsClientId=c)
-                  for j in range(pb.getNumJoints(body, physicsClientId=c))]  # fmt: skip
+        joints = [
+            pb.getJointInfo(body, j, physicsClientId=c)
+            for j in range(pb.getNumJoints(body, physicsClientId=c))
+        ]
         revolute = [j for j in joints if j[2] == pb.JOINT_REVOLUTE]
         return MassProperties(
             source="pybullet",
@@ -255,7 +284,10 @@ class PybulletSimulator(SimulatorBase):
         )
 
     def frame_positions_world(self, names: list[str]) -> np.ndarray:
-        states = pb.getLinkStates(self.body, [self._index["link:" + n] for n in names],
-                                  computeForwardKinematics=1,
-                                  physicsClientId=self.client)  # fmt: skip
+        states = pb.getLinkStates(
+            self.body,
+            [self._index["link:" + n] for n in names],
+            computeForwardKinematics=1,
+            physicsClientId=self.client,
+        )
         return np.array([s[4] for s in states])

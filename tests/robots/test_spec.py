@@ -78,9 +78,10 @@ def test_foot_inertia_has_products_of_inertia():
 def test_mass_distribution_is_realistic():
     robot = humanoid()
     legs = sum(
-        link.inertial.mass for link in robot.links if any(k in link.name for k in
-        ("hip", "thigh", "shank", "ankle", "foot"))
-    )  # fmt: skip
+        link.inertial.mass
+        for link in robot.links
+        if any(k in link.name for k in ("hip", "thigh", "shank", "ankle", "foot"))
+    )
     torso = robot.link("torso").inertial.mass
     assert 0.35 < legs / robot.total_mass < 0.5
     assert 0.35 < torso / robot.total_mass < 0.5
@@ -108,8 +109,9 @@ def test_total_mass_override():
     assert robot.total_mass == pytest.approx(6.6)
 
 
-@pytest.mark.parametrize(("scale", "mass"), [(-1.0, None), (0.0, None), (float("nan"), None),
-                                             (1.0, -5.0)])  # fmt: skip
+@pytest.mark.parametrize(
+    ("scale", "mass"), [(-1.0, None), (0.0, None), (float("nan"), None), (1.0, -5.0)]
+)
 def test_bad_scale_or_mass_is_rejected(scale, mass):
     with pytest.raises(ValueError, match="positive"):
         humanoid(scale, total_mass=mass)

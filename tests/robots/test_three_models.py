@@ -44,8 +44,9 @@ def test_each_model_matches_the_description(robot, properties, source):
     assert props.joint_names == robot.joint_names
     np.testing.assert_allclose(props.joint_lower, robot.array("lower"), atol=TOL)
     np.testing.assert_allclose(props.joint_upper, robot.array("upper"), atol=TOL)
-    for name, mass, com, inertia in zip(props.body_names, props.mass, props.com_in_body,
-                                        props.inertia_at_com_in_body, strict=True):  # fmt: skip
+    for name, mass, com, inertia in zip(
+        props.body_names, props.mass, props.com_in_body, props.inertia_at_com_in_body, strict=True
+    ):
         spec = robot.link(name).inertial
         assert mass == pytest.approx(spec.mass, rel=TOL)
         np.testing.assert_allclose(com, spec.com_in_link, atol=TOL)
@@ -77,11 +78,13 @@ def test_frame_positions_identical_for_random_configurations(robot, sim_name):
             np.testing.assert_allclose(sim.frame_positions_world(names), expected, atol=TOL)
             # and the simulator reads back the state it was given
             back = sim.ground_truth()
-            np.testing.assert_allclose(back.base_position_world, state.base_position_world,
-                                       atol=TOL)  # fmt: skip
+            np.testing.assert_allclose(
+                back.base_position_world, state.base_position_world, atol=TOL
+            )
             sign = np.sign(back.base_orientation_world @ state.base_orientation_world)
-            np.testing.assert_allclose(sign * back.base_orientation_world,
-                                       state.base_orientation_world, atol=TOL)  # fmt: skip
+            np.testing.assert_allclose(
+                sign * back.base_orientation_world, state.base_orientation_world, atol=TOL
+            )
             np.testing.assert_allclose(back.joint_position, state.joint_position, atol=TOL)
     finally:
         sim.close()

@@ -75,8 +75,15 @@ def simulate(robot, model, sim_name, scene, initial, duration, command=None, pus
         fall = sim.fall_reason()
     finally:
         sim.close()
-    return Trace(sensors, np.array(coms), np.array(vcoms), np.array(forces), np.array(cops),
-                 fall, scene.control_dt)  # fmt: skip
+    return Trace(
+        sensors,
+        np.array(coms),
+        np.array(vcoms),
+        np.array(forces),
+        np.array(cops),
+        fall,
+        scene.control_dt,
+    )
 
 
 @pytest.fixture(scope="module")
@@ -129,8 +136,9 @@ def test_com_stays_put(standing, sim_name):
 def test_centre_of_pressure_under_the_com(standing, sim_name):
     # At rest the ground reaction passes through the CoM: CoP = CoM ground projection.
     trace = standing[sim_name]
-    gap = np.linalg.norm(trace.cop_world[settled(trace, 1.0)] - trace.com[settled(trace, 1.0), :2],
-                         axis=1)  # fmt: skip
+    gap = np.linalg.norm(
+        trace.cop_world[settled(trace, 1.0)] - trace.com[settled(trace, 1.0), :2], axis=1
+    )
     assert gap.max() < 0.002
 
 
@@ -160,12 +168,15 @@ def test_standing_sensors_agree_between_simulators(robot, standing):
     wa, wb = mean(a, "contact_wrench_limb"), mean(b, "contact_wrench_limb")
     np.testing.assert_allclose(wa[:, :3], wb[:, :3], atol=0.01 * weight)
     np.testing.assert_allclose(wa[:, 3:], wb[:, 3:], atol=1.0)
-    np.testing.assert_allclose(mean(a, "imu_orientation_world"),
-                               mean(b, "imu_orientation_world"), atol=1e-3)  # fmt: skip
-    np.testing.assert_allclose(mean(a, "imu_angular_velocity_imu"),
-                               mean(b, "imu_angular_velocity_imu"), atol=0.01)  # fmt: skip
-    np.testing.assert_allclose(mean(a, "imu_linear_acceleration_imu"),
-                               mean(b, "imu_linear_acceleration_imu"), atol=0.05)  # fmt: skip
+    np.testing.assert_allclose(
+        mean(a, "imu_orientation_world"), mean(b, "imu_orientation_world"), atol=1e-3
+    )
+    np.testing.assert_allclose(
+        mean(a, "imu_angular_velocity_imu"), mean(b, "imu_angular_velocity_imu"), atol=0.01
+    )
+    np.testing.assert_allclose(
+        mean(a, "imu_linear_acceleration_imu"), mean(b, "imu_linear_acceleration_imu"), atol=0.05
+    )
     np.testing.assert_allclose(mean(a, "joint_position"), mean(b, "joint_position"), atol=1e-3)
     np.testing.assert_allclose(mean(a, "joint_torque"), mean(b, "joint_torque"), atol=1.0)
 
@@ -177,8 +188,9 @@ def test_push_in_free_fall_changes_com_velocity_by_impulse_over_mass(robot, mode
     impulse = np.array([12.0, -7.0, 3.0])  # [N s]
     hold = model.hold_command(initial)
     hold = JointCommand(hold.position, hold.velocity, np.zeros(robot.n_joints), hold.kp, hold.kd)
-    trace = simulate(robot, model, sim_name, scene, initial, 0.4, command=hold,
-                     push=(0.1, "torso", impulse, 0.1))  # fmt: skip
+    trace = simulate(
+        robot, model, sim_name, scene, initial, 0.4, command=hold, push=(0.1, "torso", impulse, 0.1)
+    )
     before, after = trace.com_velocity[round(0.08 / trace.dt)], trace.com_velocity[-1]
     np.testing.assert_allclose(before, 0.0, atol=1e-9)  # nothing external yet: at rest
     expected = impulse / robot.total_mass
@@ -191,8 +203,9 @@ def test_momentum_balance_with_contacts(robot, model, sim_name):
     have the right sign and frame, friction included (the push is horizontal)."""
     initial = model.standing_state()
     impulse = np.array([6.0, 4.0, 0.0])
-    trace = simulate(robot, model, sim_name, Scene(), initial, 1.5,
-                     push=(0.5, "torso", impulse, 0.1))  # fmt: skip
+    trace = simulate(
+        robot, model, sim_name, Scene(), initial, 1.5, push=(0.5, "torso", impulse, 0.1)
+    )
     assert trace.fall_reason is None
     start = round(0.4 / trace.dt)
     mass = robot.total_mass
@@ -213,9 +226,11 @@ def test_scene_box_supports_the_robot(robot, model, sim_name):
     height = 0.1
     scene = Scene(boxes=(Box("platform", (0.0, 0.0, height / 2), (0.5, 0.5, height / 2)),))
     ground_state = model.standing_state()
-    initial = RobotState.at_rest(ground_state.base_position_world + np.array([0.0, 0.0, height]),
-                                 ground_state.base_orientation_world,
-                                 ground_state.joint_position)  # fmt: skip
+    initial = RobotState.at_rest(
+        ground_state.base_position_world + np.array([0.0, 0.0, height]),
+        ground_state.base_orientation_world,
+        ground_state.joint_position,
+    )
     trace = simulate(
         robot, model, sim_name, scene, initial, 1.0, command=model.hold_command(initial)
     )
