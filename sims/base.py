@@ -10,6 +10,7 @@ from __future__ import annotations
 
 import abc
 import importlib
+import importlib.util
 from dataclasses import dataclass
 from typing import Protocol
 
@@ -193,13 +194,11 @@ class SimulatorSpec:
     extra: str
 
     def create(self) -> Simulator:
-        try:
-            importlib.import_module(self.package)
-        except ImportError as exc:
+        if importlib.util.find_spec(self.package) is None:
             raise MissingDependencyError(
                 f"simulator {self.name!r} needs the package {self.package!r}, which is not "
                 f"installed: pip install 'centrobench[{self.extra}]'"
-            ) from exc
+            )
         return getattr(importlib.import_module(self.module), self.cls)()
 
 

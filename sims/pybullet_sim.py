@@ -18,8 +18,10 @@ Physics settings (same intent as `sims.mujoco_sim`; see README "Simulator differ
 
 from __future__ import annotations
 
+import os
+import sys
+
 import numpy as np
-import pybullet as pb
 from scipy.spatial.transform import Rotation
 
 from robots.build import generate
@@ -27,6 +29,23 @@ from robots.spec import RobotDescription
 from robots.types import MassProperties, RobotState, Sensors
 from sims.base import SimulatorBase, SimulatorError, quaternion_to_matrix
 from sims.scene import Scene
+
+
+def _import_pybullet():
+    """Import pybullet with its C-level build banner (written to fd 2) kept out of the output."""
+    sys.stderr.flush()
+    saved, devnull = os.dup(2), os.open(os.devnull, os.O_WRONLY)
+    try:
+        os.dup2(devnull, 2)
+        import pybullet
+    finally:
+        os.dup2(saved, 2)
+        os.close(saved)
+        os.close(devnull)
+    return pybullet
+
+
+pb = _import_pybullet()
 
 CONTACT_ERP = 0.0
 """PyBullet's penetration-recovery gain. With its default (0.2) the `normalForce` it reports

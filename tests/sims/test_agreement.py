@@ -133,6 +133,21 @@ def test_com_stays_put(standing, sim_name):
 
 
 @pytest.mark.parametrize("sim_name", SIMS)
+def test_feet_neither_slide_nor_bounce(model, standing, sim_name):
+    trace = standing[sim_name]
+    soles = ["left_sole", "right_sole"]
+    positions = np.array(
+        [model.frame_positions_world(s.ground_truth(), soles) for s in trace.sensors]
+    )
+    horizontal = np.linalg.norm(positions[:, :, :2] - positions[0, :, :2], axis=2)
+    assert horizontal.max() < 2e-4  # 0.2 mm over 5 s
+    heights = positions[settled(trace), :, 2]
+    assert np.abs(heights).max() < 2e-4  # on the ground, not above or into it
+    vertical_speed = np.array([s.base_linear_velocity_world[2] for s in trace.sensors])
+    assert np.abs(vertical_speed[settled(trace)]).max() < 2e-3
+
+
+@pytest.mark.parametrize("sim_name", SIMS)
 def test_centre_of_pressure_under_the_com(standing, sim_name):
     # At rest the ground reaction passes through the CoM: CoP = CoM ground projection.
     trace = standing[sim_name]
@@ -300,5 +315,38 @@ def test_body_touching_ground_is_a_fall(robot, model, sim_name):
         sim.set_state(kneeling)
         sim.step(model.hold_command(kneeling))
         assert "touching the scene" in (sim.fall_reason() or "")
+    finally:
+        sim.close()
+
+
+@pytest.mark.parametrize("sim_name", SIMS)
+@pytest.mark.parametrize(
+    ("tilt_deg", "height", "reason"), [(40.0, 1.5, "tilt"), (0.0, 0.3, "height")]
+)
+def test_tilt_and_low_base_are_falls(robot, model, sim_name, tilt_deg, height, reason):
+    # In the air with gravity off, so that nothing but the named criterion applies.
+    half = np.deg2rad(tilt_deg) / 2
+    state = RobotState.at_rest(
+        [0.0, 0.0, height], [np.cos(half), np.sin(half), 0.0, 0.0], robot.nominal_posture
+    )
+    sim = make_simulator(sim_name)
+    try:
+        sim.reset(robot, Scene(ground=False, gravity=0.0), state)
+        assert sim.fall_reason() is None
+        sim.step(model.hold_command(state))
+        assert reason in (sim.fall_reason() or "")
+    finally:
+        sim.close()
+
+
+@pytest.mark.parametrize("sim_name", SIMS)
+def test_upright_robot_in_the_air_has_not_fallen(robot, model, sim_name):
+    state = RobotState.at_rest([0.0, 0.0, 1.5], [1.0, 0.0, 0.0, 0.0], robot.nominal_posture)
+    sim = make_simulator(sim_name)
+    try:
+        sim.reset(robot, Scene(ground=False, gravity=0.0), state)
+        for _ in range(10):
+            sim.step(model.hold_command(state))
+        assert sim.fall_reason() is None
     finally:
         sim.close()

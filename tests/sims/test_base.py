@@ -74,7 +74,7 @@ def test_physics_step_and_control_period_follow_the_scene(sim_name):
         if sim_name == "mujoco":
             assert sim.model.opt.timestep == 0.0005
         else:
-            import pybullet
+            from sims.pybullet_sim import pb as pybullet
 
             parameters = pybullet.getPhysicsEngineParameters(physicsClientId=sim.client)
             assert parameters["fixedTimeStep"] == 0.0005
