@@ -49,12 +49,14 @@ _ARM_JOINTS = {
     "shoulder_yaw": ((-1.5, 1.5), 6.0, 60.0, 200.0, 3.0),
     "elbow": ((-2.4, 0.0), 6.0, 60.0, 200.0, 3.0),
 }
+# Standing posture: knees bent 0.7 rad, torso upright and feet flat (hip + knee + ankle pitch
+# = 0), split between hip and ankle so that the CoM is above the sole centres (to 0.05 mm).
 _NOMINAL = {
     "hip_yaw": 0.0,
     "hip_roll": 0.0,
-    "hip_pitch": -0.35,
+    "hip_pitch": -0.330,
     "knee": 0.7,
-    "ankle_pitch": -0.35,
+    "ankle_pitch": -0.370,
     "ankle_roll": 0.0,
     "shoulder_pitch": 0.1,
     "shoulder_roll": 0.15,

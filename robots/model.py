@@ -98,6 +98,53 @@ class RobotModel:
             kd=robot.array("kd"),
         )
 
+    # ------------------------------------------------------------- centroidal quantities
+    def centroidal_momentum_matrix(self, state: RobotState) -> np.ndarray:
+        """A_G (6 x nv) with h_G = A_G v = [linear momentum; angular momentum about the CoM]
+        (world axes), v in pinocchio's convention (see `velocity`)."""
+        q = self.configuration(state)
+        return pin.computeCentroidalMap(self.model, self.data, q).copy()
+
+    def centroidal_momentum(self, state: RobotState) -> tuple[np.ndarray, np.ndarray]:
+        """Linear momentum [kg m/s] and angular momentum about the CoM [kg m^2/s], world axes."""
+        h = pin.computeCentroidalMomentum(
+            self.model, self.data, self.configuration(state), self.velocity(state)
+        )
+        return h.linear.copy(), h.angular.copy()
+
+    def inertia_all(self, state: RobotState) -> np.ndarray:
+        """I_all of Murooka eq. 6 (3 x nv): L = I_all q-dot, the angular rows of A_G."""
+        return self.centroidal_momentum_matrix(state)[3:]
+
+    def inertia_base(self, state: RobotState) -> np.ndarray:
+        """I_base of Murooka eq. 6 (3 x 3): the block of I_all for the base angular velocity,
+        here mapping the world-frame base angular velocity (pinocchio's is in the base frame,
+        hence the rotation)."""
+        q = self.configuration(state)
+        rotation = pin.Quaternion(q[6], q[3], q[4], q[5]).toRotationMatrix()
+        return self.inertia_all(state)[:, 3:6] @ rotation.T
+
+    def constant_inertia(self) -> np.ndarray:
+        """I of Murooka eq. 6: a constant diagonal approximation of I_base, taken as the
+        diagonal of I_base in the standing posture [kg m^2]."""
+        return np.diag(np.diag(self.inertia_base(self.standing_state())))
+
+    def frame_pose(self, state: RobotState, name: str) -> tuple[np.ndarray, np.ndarray]:
+        """Position [m] and rotation matrix of a named frame in the world."""
+        pin.framesForwardKinematics(self.model, self.data, self.configuration(state))
+        placement = self.data.oMf[self.frame_id[name]]
+        return placement.translation.copy(), placement.rotation.copy()
+
+    def frame_jacobian(self, state: RobotState, name: str) -> np.ndarray:
+        """6 x nv Jacobian of a named frame: [linear velocity of its origin; angular velocity],
+        world axes, for pinocchio's v (see `velocity`)."""
+        q = self.configuration(state)
+        pin.computeJointJacobians(self.model, self.data, q)
+        pin.updateFramePlacements(self.model, self.data)
+        return pin.getFrameJacobian(
+            self.model, self.data, self.frame_id[name], pin.LOCAL_WORLD_ALIGNED
+        ).copy()
+
     def standing_state(self) -> RobotState:
         """The nominal posture with the base upright and placed so that the lowest sole centre
         is on the ground (z = 0), the soles centred about x = 0."""

@@ -15,7 +15,13 @@ class RobotState:
 
     base_position_world [m]; base_orientation_world (w, x, y, z); base_linear_velocity_world
     [m/s] of the base frame origin; base_angular_velocity_world [rad/s]; joint_position [rad];
-    joint_velocity [rad/s]."""
+    joint_velocity [rad/s].
+
+    An estimator also fills: time [s]; com_position_world [m] and com_velocity_world [m/s];
+    contact_wrench_limb (n_limbs, 6) measured force [N] and moment [N m] in each limb's
+    contact frame about its origin, contact_flag_limb (n_limbs,) bool; zmp_world (3,) the
+    measured ZMP on the ground plane z = 0 [m] (NaN without vertical contact force). A state
+    from a simulator's ground truth leaves them None."""
 
     base_position_world: np.ndarray
     base_orientation_world: np.ndarray
@@ -23,6 +29,12 @@ class RobotState:
     base_angular_velocity_world: np.ndarray
     joint_position: np.ndarray
     joint_velocity: np.ndarray
+    time: float = 0.0
+    com_position_world: np.ndarray | None = None
+    com_velocity_world: np.ndarray | None = None
+    contact_wrench_limb: np.ndarray | None = None
+    contact_flag_limb: np.ndarray | None = None
+    zmp_world: np.ndarray | None = None
 
     @staticmethod
     def at_rest(base_position_world, base_orientation_world, joint_position) -> RobotState:
@@ -105,3 +117,57 @@ class MassProperties:
     @property
     def total_mass(self) -> float:
         return float(self.mass.sum())
+
+
+@dataclass(frozen=True)
+class CentroidalPlan:
+    """A planner's output for one control period (world frame, SI units).
+
+    com_reference_world [m]: the reference r^ref (Murooka Fig. 1); com_planned_world [m],
+    com_velocity_planned_world [m/s], com_acceleration_planned_world [m/s^2]: the planned
+    state r^p; base_orientation_planned_world (w, x, y, z) and base_angular_velocity_planned
+    _world [rad/s]; wrench_planned_world (6,): planned resultant force [N] and moment about the
+    CoM [N m] before projection (w-bar^p), wrench_projected_world (6,) after projection onto the
+    contact constraints (w-bar^p'); zmp_planned_world (3,) [m] from the projected wrench;
+    contact_limbs: names of the limbs in contact; limb_target_position_world /
+    limb_target_orientation_world: per limb, where it should be (contact pose or swing
+    trajectory), (n_limbs, 3) [m] and (n_limbs, 4) (w, x, y, z); timings_ns: sub-stage times
+    of the planner (e.g. "reference", "preview", "projection") in ns."""
+
+    com_reference_world: np.ndarray
+    com_planned_world: np.ndarray
+    com_velocity_planned_world: np.ndarray
+    com_acceleration_planned_world: np.ndarray
+    base_orientation_planned_world: np.ndarray
+    base_angular_velocity_planned_world: np.ndarray
+    wrench_planned_world: np.ndarray
+    wrench_projected_world: np.ndarray
+    zmp_planned_world: np.ndarray
+    contact_limbs: tuple[str, ...]
+    limb_target_position_world: np.ndarray
+    limb_target_orientation_world: np.ndarray
+    timings_ns: dict[str, int]
+
+
+@dataclass(frozen=True)
+class WholeBodyTargets:
+    """A stabilizer's output: what the whole-body layer must realise.
+
+    com_position_world [m] and base_orientation_world (w, x, y, z): kinematic targets for the
+    IK; limb_position_world (n_limbs, 3) [m], limb_orientation_world (n_limbs, 4): limb-end
+    (contact frame) targets; limb_in_contact (n_limbs,) bool: contact limbs are held, the others
+    tracked; com_desired_world [m] and zmp_desired_world (3,) [m]: for the record;
+    contact_wrench_desired_limb (n_limbs, 6) or None: desired contact wrenches in each limb's
+    contact frame (the whole-body layer turns them into feed-forward torques); joint_torque
+    (n_joints,) [N m] or None: extra feed-forward torques; timings_ns: sub-stage times."""
+
+    com_position_world: np.ndarray
+    base_orientation_world: np.ndarray
+    limb_position_world: np.ndarray
+    limb_orientation_world: np.ndarray
+    limb_in_contact: np.ndarray
+    com_desired_world: np.ndarray
+    zmp_desired_world: np.ndarray
+    contact_wrench_desired_limb: np.ndarray | None = None
+    joint_torque: np.ndarray | None = None
+    timings_ns: dict[str, int] | None = None

@@ -127,3 +127,20 @@ def test_right_side_mirrors_left():
         expected = (-joint.upper, -joint.lower) if mirrored else (joint.lower, joint.upper)
         assert (twin.lower, twin.upper) == expected
         assert twin.origin_in_parent[1] == -joint.origin_in_parent[1]
+
+
+def test_nominal_posture_balances_over_the_feet():
+    # Torso upright, feet flat, CoM above the centre of the soles: standing needs no ankle
+    # torque and a planner holding the CoM over the support centre starts at rest.
+    from robots.model import RobotModel
+
+    robot = humanoid()
+    model = RobotModel(robot)
+    state = model.standing_state()
+    com = model.com_position_world(state)
+    soles = model.frame_positions_world(state, ["left_sole", "right_sole"])
+    assert abs(com[0] - soles[:, 0].mean()) < 1e-4
+    assert abs(com[1] - soles[:, 1].mean()) < 1e-9
+    for name in ("left_sole", "right_sole", "torso"):
+        rotation = model.frame_pose(state, name)[1]
+        np.testing.assert_allclose(rotation, np.eye(3), atol=1e-12)

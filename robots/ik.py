@@ -1,0 +1,152 @@
+"""Whole-body inverse kinematics: one weighted least-squares QP per control period.
+
+Each call takes the IK's own configuration q (the last solution, a floating-base model of the
+robot: the base is a free variable, as in Murooka Sec. V-A1, where the IK output goes to joint
+position servos) and finds the step dv (pinocchio tangent space, nv = 6 + n_joints) minimising
+
+    sum_i w_i || J_i dv - gain e_i ||^2 + damping ||dv||^2
+
+over the tasks i: each limb end's 6-D pose (contact limbs held with `contact` weight, free
+limbs tracked with `limb` weight), the CoM position, the base orientation, a low-weight posture
+task toward the nominal joint angles (Murooka V-A1) and an optional centroidal angular
+momentum task I_all dv = 0 (Murooka V-F), subject to the joint position limits and the joint
+velocity limits over one period. The QP is solved through qpsolvers (default daqp: the fastest
+on this dense 26-variable problem, see `make benchmark`).
+
+Orientation errors are log(R_target R^T) in world axes, matching the LOCAL_WORLD_ALIGNED
+Jacobians.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+import pinocchio as pin
+import qpsolvers
+
+from robots.model import RobotModel
+from robots.types import RobotState, WholeBodyTargets
+
+
+@dataclass(frozen=True)
+class IKWeights:
+    """Task weights (dimensionless; errors in m and rad) and the fraction `gain` of each task
+    error corrected per call."""
+
+    contact: float = 1e4
+    com: float = 1e3
+    base_orientation: float = 1e2
+    limb: float = 1e2
+    posture: float = 1e-2
+    angular_momentum: float = 0.0
+    damping: float = 1e-6
+    gain: float = 1.0
+
+
+def _quaternion_matrix(quaternion_wxyz: np.ndarray) -> np.ndarray:
+    w, x, y, z = quaternion_wxyz
+    return pin.Quaternion(w, x, y, z).normalized().toRotationMatrix()
+
+
+class WholeBodyIK:
+    """Differential IK over a floating-base pinocchio model; see the module docstring."""
+
+    def __init__(
+        self,
+        model: RobotModel,
+        dt: float,
+        weights: IKWeights | None = None,
+        solver: str = "daqp",
+    ) -> None:
+        if solver not in qpsolvers.available_solvers:
+            raise ValueError(
+                f"QP solver {solver!r} is not available; available: "
+                f"{', '.join(qpsolvers.available_solvers)}"
+            )
+        self.robot_model = model
+        self.model = model.model
+        self.data = self.model.createData()
+        self.dt = dt
+        self.weights = weights or IKWeights()
+        self.solver = solver
+        robot = model.robot
+        self.nv = self.model.nv
+        self.n_joints = robot.n_joints
+        self.limb_frames = [model.frame_id[limb.contact_frame] for limb in robot.limbs]
+        self.base_frame = model.frame_id[robot.base_link]
+        self.lower = robot.array("lower")
+        self.upper = robot.array("upper")
+        self.max_step = robot.array("velocity_limit") * dt
+        self.nominal = np.array(robot.nominal_posture)
+        self.q = pin.neutral(self.model)
+        self._big = 1e10  # "unbounded" for the base coordinates
+
+    def reset(self, state: RobotState) -> None:
+        """Start from `state`'s configuration."""
+        self.q = self.robot_model.configuration(state)
+
+    def joint_position(self) -> np.ndarray:
+        return self.q[7:].copy()
+
+    def solve(self, targets: WholeBodyTargets) -> tuple[np.ndarray, np.ndarray]:
+        """One IK step toward `targets`: the new joint positions [rad] and the joint velocities
+        [rad/s] of the step."""
+        model, data, w = self.model, self.data, self.weights
+        q = self.q
+        pin.computeJointJacobians(model, data, q)
+        pin.updateFramePlacements(model, data)
+        com = pin.centerOfMass(model, data, q, False)
+        jacobian_com = pin.jacobianCenterOfMass(model, data, False)
+
+        rows: list[np.ndarray] = []
+        errors: list[np.ndarray] = []
+        weights: list[np.ndarray] = []
+
+        def add(jacobian: np.ndarray, error: np.ndarray, weight: float) -> None:
+            rows.append(jacobian)
+            errors.append(error)
+            weights.append(np.full(len(error), weight))
+
+        for k, frame in enumerate(self.limb_frames):
+            placement = data.oMf[frame]
+            jacobian = pin.getFrameJacobian(model, data, frame, pin.LOCAL_WORLD_ALIGNED)
+            target_rotation = _quaternion_matrix(targets.limb_orientation_world[k])
+            error = np.concatenate(
+                [
+                    targets.limb_position_world[k] - placement.translation,
+                    pin.log3(target_rotation @ placement.rotation.T),
+                ]
+            )
+            add(jacobian, error, w.contact if targets.limb_in_contact[k] else w.limb)
+        add(jacobian_com, targets.com_position_world - com, w.com)
+        base = data.oMf[self.base_frame]
+        base_jacobian = pin.getFrameJacobian(model, data, self.base_frame, pin.LOCAL_WORLD_ALIGNED)
+        base_error = pin.log3(_quaternion_matrix(targets.base_orientation_world) @ base.rotation.T)
+        add(base_jacobian[3:], base_error, w.base_orientation)
+        posture = np.zeros((self.n_joints, self.nv))
+        posture[:, 6:] = np.eye(self.n_joints)
+        add(posture, self.nominal - q[7:], w.posture)
+        if w.angular_momentum > 0:
+            centroidal = pin.computeCentroidalMap(model, data, q)
+            add(centroidal[3:], np.zeros(3), w.angular_momentum)
+
+        jacobian = np.vstack(rows)
+        error = np.concatenate(errors) * w.gain
+        weight = np.concatenate(weights)
+        weighted = jacobian * weight[:, None]
+        hessian = jacobian.T @ weighted + w.damping * np.eye(self.nv)
+        gradient = -weighted.T @ error
+
+        lower = np.full(self.nv, -self._big)
+        upper = np.full(self.nv, self._big)
+        joints = q[7:]
+        lower[6:] = np.minimum(np.maximum(self.lower - joints, -self.max_step), 0.0)
+        upper[6:] = np.maximum(np.minimum(self.upper - joints, self.max_step), 0.0)
+        step = qpsolvers.solve_qp(hessian, gradient, lb=lower, ub=upper, solver=self.solver)
+        if step is None or not np.all(np.isfinite(step)):
+            raise RuntimeError(f"IK QP ({self.solver}) found no solution")
+        self.q = pin.integrate(model, q, step)
+        # Keep the joints inside their limits exactly (the solver's tolerance may leave 1e-9).
+        self.q[7:] = np.clip(self.q[7:], self.lower, self.upper)
+        return self.q[7:].copy(), step[6:] / self.dt
