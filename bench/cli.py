@@ -39,6 +39,37 @@ def _positive(kind: str):
     return parse
 
 
+def _non_negative(kind: str):
+    def parse(text: str) -> float:
+        value = _finite(kind)(text)
+        if value < 0:
+            raise argparse.ArgumentTypeError(f"{kind} must be >= 0, got {text}")
+        return value
+
+    return parse
+
+
+def _finite(kind: str):
+    def parse(text: str) -> float:
+        try:
+            value = float(text)
+        except ValueError:
+            raise argparse.ArgumentTypeError(f"{kind} must be a number, got {text!r}") from None
+        if not np.isfinite(value):
+            raise argparse.ArgumentTypeError(f"{kind} must be finite, got {text}")
+        return value
+
+    return parse
+
+
+def _one_simulator(text: str) -> str:
+    if text not in SIMULATORS:
+        raise argparse.ArgumentTypeError(
+            f"unknown simulator {text!r}; choose from: {', '.join(SIMULATORS)}"
+        )
+    return text
+
+
 def _simulator_names(text: str) -> list[str]:
     names = list(SIMULATORS) if text == "all" else [n.strip() for n in text.split(",")]
     for name in names:
@@ -74,6 +105,38 @@ def build_parser() -> argparse.ArgumentParser:
         help="total mass [kg] instead of the scaled one",
     )
     robot.add_argument("--json", action="store_true", help="one JSON object on stdout")
+
+    run = commands.add_parser("run", help="run one episode and summarise it")
+    run.add_argument("--planner", required=True, help="a planner name (see `centrobench list`)")
+    run.add_argument("--stabilizer", required=True, help="a stabilizer name")
+    run.add_argument("--sim", required=True, type=_one_simulator, help="mujoco or pybullet")
+    run.add_argument("--scenario", required=True, help="a scenario name")
+    run.add_argument(
+        "--duration",
+        type=_positive("--duration"),
+        default=None,
+        help="simulated seconds (default: the scenario's)",
+    )
+    run.add_argument(
+        "--push-impulse",
+        type=_non_negative("--push-impulse"),
+        default=None,
+        help="push impulse [N s] (scenarios with a push)",
+    )
+    run.add_argument(
+        "--push-direction",
+        type=_finite("--push-direction"),
+        default=None,
+        help="push direction [deg], 0 = forward (+x), 90 = left (+y)",
+    )
+    run.add_argument(
+        "--estimator", default="ground_truth", help="ground_truth (default) or proprioceptive"
+    )
+    run.add_argument("--seed", type=int, default=0, help="random seed (default 0)")
+    run.add_argument("--out", default=None, help="write the per-period trace to FILE.parquet")
+    run.add_argument("--json", action="store_true", help="the summary as one JSON object")
+
+    commands.add_parser("list", help="the registered planners, stabilizers, scenarios, sims")
 
     demo = commands.add_parser(
         "demo", help="load the robot in each simulator, hold the standing posture, summarise"
@@ -121,11 +184,105 @@ def _robot(args: argparse.Namespace) -> int:
     return 0
 
 
+def _validate_names(args: argparse.Namespace) -> None:
+    """Unknown planner / stabilizer / scenario / estimator: one line with the known names."""
+    from bench.scenarios import SCENARIOS
+    from planners.base import planner_spec
+    from robots.estimators import ESTIMATORS
+    from stabilizers.base import stabilizer_spec
+
+    planner_spec(args.planner)
+    stabilizer_spec(args.stabilizer)
+    if args.scenario not in SCENARIOS:
+        raise UsageError(
+            f"unknown scenario {args.scenario!r}; choose one of: {', '.join(SCENARIOS)}"
+        )
+    if args.estimator not in ESTIMATORS:
+        raise UsageError(
+            f"unknown estimator {args.estimator!r}; choose one of: {', '.join(ESTIMATORS)}"
+        )
+
+
+def _run(args: argparse.Namespace) -> int:
+    from bench.runner import EpisodeSpec, run_episode, summary_json_ready
+    from bench.scenarios import SCENARIOS
+
+    _validate_names(args)
+    if (args.push_impulse is not None or args.push_direction is not None) and not SCENARIOS[
+        args.scenario
+    ].takes_push:
+        pushing = ", ".join(s.name for s in SCENARIOS.values() if s.takes_push)
+        raise UsageError(f"scenario {args.scenario!r} takes no push; scenarios with one: {pushing}")
+    spec = EpisodeSpec(
+        planner=args.planner,
+        stabilizer=args.stabilizer,
+        sim=args.sim,
+        scenario=args.scenario,
+        seed=args.seed,
+        duration=args.duration,
+        push_impulse=args.push_impulse,
+        push_direction_deg=args.push_direction,
+        estimator=args.estimator,
+    )
+    result = run_episode(spec)
+    summary = summary_json_ready(result.summary)
+    if args.out:
+        from bench.results import write_trace
+
+        write_trace(result.trace, summary, args.out)
+    if args.json:
+        print(json.dumps(summary))
+    else:
+        print(
+            f"{summary['planner']} + {summary['stabilizer']} on {summary['sim']}, "
+            f"{summary['scenario']}: {summary['status']}"
+            + (
+                f" at {summary['fall_time']:.3f} s ({summary['fall_reason']})"
+                if summary["fell"]
+                else ""
+            )
+            + (f": {summary['error']}" if summary["error"] else "")
+        )
+        print(
+            f"simulated {summary['duration']:.2f} s, real-time factor "
+            f"{summary['real_time_factor'] or 0:.2f}, CoM error RMS "
+            f"{(summary['com_error_rms_m'] or 0) * 1e3:.2f} mm"
+        )
+        print(f"{'stage':<16} {'median us':>10} {'p99 us':>10} {'max us':>10}")
+        for stage, stats in summary["latency_us"].items():
+            print(
+                f"{stage:<16} {stats['median']:>10.1f} {stats['p99']:>10.1f} {stats['max']:>10.1f}"
+            )
+    return 0 if summary["status"] != "error" else 1
+
+
+def _list(args: argparse.Namespace) -> int:
+    from bench.scenarios import SCENARIOS
+    from planners.base import PLANNERS, planner_spec
+    from robots.estimators import ESTIMATORS
+    from stabilizers.base import STABILIZERS, stabilizer_spec
+
+    planner_spec("hold")  # loads the registries
+    stabilizer_spec("posture")
+    sections = {
+        "planners": {n: p.description for n, p in sorted(PLANNERS.items())},
+        "stabilizers": {n: s.description for n, s in sorted(STABILIZERS.items())},
+        "scenarios": {n: s.description for n, s in SCENARIOS.items()},
+        "simulators": {n: "" for n in SIMULATORS},
+        "estimators": {n: "" for n in ESTIMATORS},
+    }
+    for title, entries in sections.items():
+        print(f"{title}:")
+        for name, description in entries.items():
+            print(f"  {name:<16} {description}".rstrip())
+    return 0
+
+
 def _demo(args: argparse.Namespace) -> int:
     from robots.humanoid import humanoid
     from robots.model import RobotModel
+    from robots.scene import Scene
     from sims.base import make_simulator
-    from sims.scene import Scene
 
     robot = humanoid(args.scale)
     model = RobotModel(robot)
@@ -170,7 +327,8 @@ def main(argv: Sequence[str] | None = None) -> int:
         if args.command is None:
             parser.print_help()
             return 0
-        return {"robot": _robot, "demo": _demo}[args.command](args)
+        commands = {"robot": _robot, "demo": _demo, "run": _run, "list": _list}
+        return commands[args.command](args)
     except (UsageError, MissingDependencyError, ValueError, KeyError) as exc:
         message = exc.args[0] if exc.args else str(exc)
         print(f"centrobench: error: {message}", file=sys.stderr)

@@ -8,10 +8,10 @@ from dataclasses import dataclass
 import numpy as np
 
 from robots.model import RobotModel
+from robots.scene import Scene
 from robots.spec import RobotDescription
 from robots.types import MassProperties, RobotState
 from sims.base import make_simulator
-from sims.scene import Scene
 
 
 @dataclass(frozen=True)

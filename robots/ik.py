@@ -34,7 +34,7 @@ class IKWeights:
     """Task weights (dimensionless; errors in m and rad) and the fraction `gain` of each task
     error corrected per call."""
 
-    contact: float = 1e4
+    contact: float = 1e5
     com: float = 1e3
     base_orientation: float = 1e2
     limb: float = 1e2

@@ -16,9 +16,9 @@ from typing import Protocol
 
 import numpy as np
 
+from robots.scene import Scene
 from robots.spec import RobotDescription
 from robots.types import JointCommand, MassProperties, RobotState, Sensors
-from sims.scene import Scene
 from sims.servo import servo_torque
 
 
@@ -61,6 +61,13 @@ def quaternion_to_matrix(quaternion_wxyz: np.ndarray) -> np.ndarray:
             [2 * (x * y + w * z), 1 - 2 * (x * x + z * z), 2 * (y * z - w * x)],
             [2 * (x * z - w * y), 2 * (y * z + w * x), 1 - 2 * (x * x + y * y)],
         ]
+    )
+
+
+def cross(a: np.ndarray, b: np.ndarray) -> np.ndarray:
+    """a x b of two 3-vectors (numpy's `cross` costs ~40 us a call)."""
+    return np.array(
+        [a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]]
     )
 
 

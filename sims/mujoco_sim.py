@@ -14,10 +14,10 @@ import mujoco
 import numpy as np
 
 from robots.build import generate
+from robots.scene import Scene
 from robots.spec import RobotDescription
 from robots.types import MassProperties, RobotState, Sensors
-from sims.base import SimulatorBase, quaternion_to_matrix
-from sims.scene import Scene
+from sims.base import SimulatorBase, cross, quaternion_to_matrix
 
 CONTACT_SOLREF = (0.005, 1.0)
 SCENE_CONTYPE, SCENE_CONAFFINITY = 0, 1
@@ -180,7 +180,7 @@ class MujocoSimulator(SimulatorBase):
                 continue
             site = self._limb_site[k]
             rotation = d.site_xmat[site].reshape(3, 3)
-            moment = np.cross(point - d.site_xpos[site], force)
+            moment = cross(point - d.site_xpos[site], force)
             wrench[k, :3] += rotation.T @ force
             wrench[k, 3:] += rotation.T @ moment
             flags[k] = True

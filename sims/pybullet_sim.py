@@ -25,10 +25,10 @@ import numpy as np
 from scipy.spatial.transform import Rotation
 
 from robots.build import generate
+from robots.scene import Scene
 from robots.spec import RobotDescription
 from robots.types import MassProperties, RobotState, Sensors
-from sims.base import SimulatorBase, SimulatorError, quaternion_to_matrix
-from sims.scene import Scene
+from sims.base import SimulatorBase, SimulatorError, cross, quaternion_to_matrix
 
 
 def _import_pybullet():
@@ -172,7 +172,7 @@ class PybulletSimulator(SimulatorBase):
         orn = Rotation.from_matrix(rotation_inertial).as_quat()  # x, y, z, w
         pb.resetBasePositionAndOrientation(body, com.tolist(), orn.tolist(), physicsClientId=c)
         omega = np.asarray(state.base_angular_velocity_world, dtype=float)
-        v_com = state.base_linear_velocity_world + np.cross(omega, com - state.base_position_world)
+        v_com = state.base_linear_velocity_world + cross(omega, com - state.base_position_world)
         pb.resetBaseVelocity(body, v_com.tolist(), omega.tolist(), physicsClientId=c)
         for j, q, dq in zip(
             self._joint_idx, state.joint_position, state.joint_velocity, strict=True
@@ -184,7 +184,7 @@ class PybulletSimulator(SimulatorBase):
         position, rotation, com = self._base_link_pose()
         v_com, omega = pb.getBaseVelocity(self.body, physicsClientId=self.client)
         omega = np.array(omega)
-        v_origin = np.array(v_com) + np.cross(omega, position - com)
+        v_origin = np.array(v_com) + cross(omega, position - com)
         q, dq = self._joint_state()
         x, y, z, w = Rotation.from_matrix(rotation).as_quat()
         return RobotState(position, np.array([w, x, y, z]), v_origin, omega, q, dq)
@@ -250,7 +250,7 @@ class PybulletSimulator(SimulatorBase):
             origin = np.array(frames[k][4])
             rotation = quaternion_to_matrix(_wxyz(frames[k][5]))
             wrench[k, :3] += rotation.T @ force
-            wrench[k, 3:] += rotation.T @ np.cross(point - origin, force)
+            wrench[k, 3:] += rotation.T @ cross(point - origin, force)
             flags[k] = True
         state = self.ground_truth()
         _, imu_quat, imu_velocity, imu_omega = self._imu_state()

@@ -8,9 +8,9 @@ import pytest
 from bench.robot_check import all_mass_properties, discrepancy
 from robots.humanoid import humanoid
 from robots.model import RobotModel
+from robots.scene import Scene
 from robots.types import RobotState
 from sims.base import make_simulator
-from sims.scene import Scene
 
 TOL = 1e-9
 

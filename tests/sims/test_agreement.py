@@ -14,9 +14,9 @@ import pytest
 
 from robots.humanoid import humanoid
 from robots.model import RobotModel
+from robots.scene import Box, Scene
 from robots.types import JointCommand, RobotState, Sensors
 from sims.base import make_simulator
-from sims.scene import Box, Scene
 
 SIMS = ["mujoco", "pybullet"]
 G = 9.81

@@ -5,9 +5,9 @@ import pytest
 
 from robots.humanoid import humanoid
 from robots.model import RobotModel
+from robots.scene import Scene
 from robots.types import JointCommand
 from sims.base import make_simulator, tilt_angle
-from sims.scene import Scene
 from sims.servo import servo_torque
 
 

@@ -1,0 +1,299 @@
+"""The control-loop runner: one episode, every stage timed, failures recorded as data.
+
+Each control period (DESIGN.md, the loop): scheduled pushes are applied, then
+estimator -> planner -> stabilizer -> whole-body layer -> simulator, each stage timed with
+`time.perf_counter_ns`. A stage that raises, an output with NaN, or a simulator error ends the
+episode with status "error" and the message; a fall ends it with status "fell" and the fall
+time. The runner itself never raises for these: the trace up to that point is kept.
+"""
+
+from __future__ import annotations
+
+import time
+import traceback
+from dataclasses import dataclass, field
+
+import numpy as np
+import pandas as pd
+
+from bench.provenance import provenance
+from bench.scenarios import make_scenario
+from planners.base import planner_spec
+from robots.estimators import make_estimator
+from robots.humanoid import humanoid
+from robots.model import RobotModel
+from robots.types import CentroidalPlan, JointCommand, WholeBodyTargets
+from robots.whole_body import WholeBodyLayer
+from sims.base import make_simulator
+from stabilizers.base import stabilizer_spec
+
+STAGES = ("estimator", "planner", "stabilizer", "whole_body", "sim")
+CONTROL_STAGES = STAGES[:-1]
+AXES = ("fx", "fy", "fz", "mx", "my", "mz")
+
+
+@dataclass(frozen=True)
+class EpisodeSpec:
+    """What to run. `duration` None: the scenario's own; push_* only for scenarios with a push."""
+
+    planner: str
+    stabilizer: str
+    sim: str
+    scenario: str
+    seed: int = 0
+    duration: float | None = None
+    push_impulse: float | None = None
+    push_direction_deg: float | None = None
+    estimator: str = "ground_truth"
+    scale: float = 1.0
+
+
+@dataclass
+class EpisodeResult:
+    summary: dict
+    trace: pd.DataFrame = field(repr=False)
+
+
+class StageError(RuntimeError):
+    pass
+
+
+def _check_finite(stage: str, *arrays) -> None:
+    for array in arrays:
+        if array is not None and not np.all(np.isfinite(array)):
+            raise StageError(f"{stage} returned a non-finite value")
+
+
+def _check_plan(plan: CentroidalPlan) -> None:
+    _check_finite(
+        "planner",
+        plan.com_planned_world,
+        plan.com_velocity_planned_world,
+        plan.wrench_projected_world,
+        plan.base_orientation_planned_world,
+        plan.limb_target_position_world,
+    )
+
+
+def _check_targets(targets: WholeBodyTargets) -> None:
+    _check_finite(
+        "stabilizer",
+        targets.com_position_world,
+        targets.base_orientation_world,
+        targets.limb_position_world,
+        targets.contact_wrench_desired_limb,
+        targets.joint_torque,
+    )
+
+
+def _check_command(command: JointCommand) -> None:
+    _check_finite("whole_body", command.position, command.velocity, command.torque_feedforward)
+
+
+class _Trace:
+    """Per-period columns in preallocated arrays (float64 unless said), grown on demand."""
+
+    def __init__(self, n_periods: int, limbs: tuple[str, ...]) -> None:
+        self.n = 0
+        self.capacity = n_periods
+        self.columns: dict[str, np.ndarray] = {}
+        self.limbs = limbs
+
+    def put(self, name: str, value: float, dtype=np.float64) -> None:
+        column = self.columns.get(name)
+        if column is None:
+            column = self.columns[name] = (
+                np.full(self.capacity, np.nan, dtype=dtype)
+                if dtype == np.float64
+                else np.zeros(self.capacity, dtype=dtype)
+            )
+        column[self.n] = value
+
+    def put_vector(self, prefix: str, values, names=("x", "y", "z")) -> None:
+        for name, value in zip(names, values, strict=True):
+            self.put(f"{prefix}_{name}", value)
+
+    def frame(self) -> pd.DataFrame:
+        return pd.DataFrame({name: column[: self.n] for name, column in self.columns.items()})
+
+
+def _latency(trace: pd.DataFrame) -> dict[str, dict[str, float]]:
+    result = {}
+    for column in trace.columns:
+        if column.startswith("t_") and column.endswith("_us"):
+            values = trace[column].dropna().to_numpy()
+            if len(values):
+                result[column[2:-3]] = {
+                    "median": float(np.median(values)),
+                    "p99": float(np.percentile(values, 99)),
+                    "max": float(values.max()),
+                }
+    return result
+
+
+def run_episode(spec: EpisodeSpec) -> EpisodeResult:
+    """Run one episode; never raises for a controller or simulator failure."""
+    summary: dict = {
+        "planner": spec.planner,
+        "stabilizer": spec.stabilizer,
+        "sim": spec.sim,
+        "scenario": spec.scenario,
+        "seed": spec.seed,
+        "estimator": spec.estimator,
+        "scale": spec.scale,
+        "status": "ok",
+        "fell": False,
+        "fall_time": None,
+        "fall_reason": None,
+        "duration": 0.0,
+        "real_time_factor": None,
+        "latency_us": {},
+        "com_error_rms_m": None,
+        "error": None,
+    }
+    trace = _Trace(0, ())
+    sim = None
+    try:
+        np.random.seed(spec.seed)  # noqa: NPY002 - seeds any legacy-API randomness too
+        robot = humanoid(spec.scale)
+        model = RobotModel(robot)
+        scenario = make_scenario(
+            spec.scenario, model, spec.duration, spec.push_impulse, spec.push_direction_deg
+        )
+        scene = scenario.scene
+        dt = scene.control_dt
+        planner = planner_spec(spec.planner).factory(dt)
+        stabilizer = stabilizer_spec(spec.stabilizer).factory(dt)
+        estimator = make_estimator(spec.estimator, model)
+        whole_body = WholeBodyLayer(model, dt)
+        sim = make_simulator(spec.sim)
+    except Exception as exc:  # bad spec: recorded, not raised
+        summary.update(status="error", error=f"setup: {type(exc).__name__}: {exc}")
+        summary.update(provenance())
+        return EpisodeResult(summary, trace.frame())
+
+    n_periods = round(scenario.duration / dt)
+    trace = _Trace(n_periods, robot.limb_names)
+    pending = sorted(scenario.pushes, key=lambda p: p.time)
+    stage = "setup"
+    wall_start = time.perf_counter()
+    try:
+        initial = model.standing_state()
+        sensors = sim.reset(robot, scene, initial)
+        estimator.reset(initial, sensors)
+        state = estimator.estimate(sensors)
+        planner.reset(model, scenario, state)
+        stabilizer.reset(model, scenario, state)
+        whole_body.reset(initial)
+        for k in range(n_periods):
+            t = k * dt
+            while pending and pending[0].time < t + dt / 2:
+                push = pending.pop(0)
+                sim.push(push.link, np.array(push.impulse_world), push.duration)
+            timings = {}
+            stage = "estimator"
+            start = time.perf_counter_ns()
+            state = estimator.estimate(sensors)
+            timings["estimator"] = time.perf_counter_ns() - start
+            _check_finite("estimator", state.base_position_world, state.com_position_world)
+            stage = "planner"
+            start = time.perf_counter_ns()
+            plan = planner.plan(t, state)
+            timings["planner"] = time.perf_counter_ns() - start
+            _check_plan(plan)
+            stage = "stabilizer"
+            start = time.perf_counter_ns()
+            targets = stabilizer.stabilize(t, plan, state)
+            timings["stabilizer"] = time.perf_counter_ns() - start
+            _check_targets(targets)
+            stage = "whole_body"
+            start = time.perf_counter_ns()
+            command = whole_body.command(targets)
+            timings["whole_body"] = time.perf_counter_ns() - start
+            _check_command(command)
+            stage = "sim"
+            start = time.perf_counter_ns()
+            sensors = sim.step(command)
+            timings["sim"] = time.perf_counter_ns() - start
+
+            _record(trace, t, state, plan, targets, timings)
+            trace.n += 1
+            reason = sim.fall_reason()
+            if reason is not None:
+                summary.update(
+                    status="fell", fell=True, fall_time=float(sensors.time), fall_reason=reason
+                )
+                break
+    except Exception as exc:
+        message = f"{stage}: {type(exc).__name__}: {exc}"
+        frames = traceback.extract_tb(exc.__traceback__)
+        if frames:
+            last = frames[-1]
+            message += f" (at {last.filename.rsplit('/', 1)[-1]}:{last.lineno})"
+        summary.update(status="error", error=message)
+    finally:
+        sim.close()
+    wall = time.perf_counter() - wall_start
+    frame = trace.frame()
+    simulated = trace.n * dt
+    summary["duration"] = simulated
+    summary["real_time_factor"] = simulated / wall if wall > 0 else None
+    summary["latency_us"] = _latency(frame)
+    if len(frame):
+        error = (
+            frame[["com_actual_x", "com_actual_y", "com_actual_z"]].to_numpy()
+            - frame[["com_planned_x", "com_planned_y", "com_planned_z"]].to_numpy()
+        )
+        summary["com_error_rms_m"] = float(np.sqrt(np.mean(np.sum(error**2, axis=1))))
+    summary.update(provenance())
+    return EpisodeResult(summary, frame)
+
+
+def _record(
+    trace: _Trace,
+    t: float,
+    state,
+    plan: CentroidalPlan,
+    targets: WholeBodyTargets,
+    timings: dict[str, int],
+) -> None:
+    put, vector = trace.put, trace.put_vector
+    put("time", t)
+    vector("com_ref", plan.com_reference_world)
+    vector("com_planned", plan.com_planned_world)
+    vector("com_desired", targets.com_desired_world)
+    vector("com_actual", state.com_position_world)
+    vector("base_quat", state.base_orientation_world, ("w", "x", "y", "z"))
+    vector("zmp_planned", plan.zmp_planned_world[:2], ("x", "y"))
+    vector("zmp_desired", targets.zmp_desired_world[:2], ("x", "y"))
+    vector("zmp_actual", state.zmp_world[:2], ("x", "y"))
+    for k, limb in enumerate(trace.limbs):
+        put(f"contact_{limb}", bool(state.contact_flag_limb[k]), np.bool_)
+        vector(f"wrench_measured_{limb}", state.contact_wrench_limb[k], AXES)
+        if targets.contact_wrench_desired_limb is not None:
+            vector(f"wrench_desired_{limb}", targets.contact_wrench_desired_limb[k], AXES)
+    control = 0
+    for name, ns in timings.items():
+        put(f"t_{name}_us", ns / 1e3)
+        if name in CONTROL_STAGES:
+            control += ns
+    put("t_control_total_us", control / 1e3)
+    for source in (plan.timings_ns, targets.timings_ns or {}):
+        for name, ns in source.items():
+            put(f"t_{name}_us", ns / 1e3)
+
+
+def summary_json_ready(summary: dict) -> dict:
+    """The summary with numpy scalars turned into Python numbers (for json.dumps)."""
+
+    def convert(value):
+        if isinstance(value, dict):
+            return {k: convert(v) for k, v in value.items()}
+        if isinstance(value, np.generic):
+            return value.item()
+        return value
+
+    return convert(summary)
+
+
+__all__ = ["EpisodeResult", "EpisodeSpec", "run_episode", "summary_json_ready"]

@@ -1,0 +1,91 @@
+"""Rotations with quaternions in (w, x, y, z) order, in plain numpy (scipy's `Rotation` costs
+tens of microseconds per call, too much for a 2 ms control period; tests check these against
+scipy)."""
+
+from __future__ import annotations
+
+import numpy as np
+
+IDENTITY_WXYZ = np.array([1.0, 0.0, 0.0, 0.0])
+
+
+def to_matrix(quaternion_wxyz: np.ndarray) -> np.ndarray:
+    """Rotation matrix of a quaternion (w, x, y, z), normalised first."""
+    w, x, y, z = np.asarray(quaternion_wxyz, dtype=float) / np.linalg.norm(quaternion_wxyz)
+    return np.array(
+        [
+            [1 - 2 * (y * y + z * z), 2 * (x * y - w * z), 2 * (x * z + w * y)],
+            [2 * (x * y + w * z), 1 - 2 * (x * x + z * z), 2 * (y * z - w * x)],
+            [2 * (x * z - w * y), 2 * (y * z + w * x), 1 - 2 * (x * x + y * y)],
+        ]
+    )
+
+
+def from_matrix(rotation: np.ndarray) -> np.ndarray:
+    """Unit quaternion (w, x, y, z) with w >= 0 of a rotation matrix (Shepperd's method)."""
+    m = rotation
+    trace = m[0, 0] + m[1, 1] + m[2, 2]
+    if trace > 0:
+        s = 2.0 * np.sqrt(trace + 1.0)
+        q = np.array(
+            [0.25 * s, (m[2, 1] - m[1, 2]) / s, (m[0, 2] - m[2, 0]) / s, (m[1, 0] - m[0, 1]) / s]
+        )
+    elif m[0, 0] > m[1, 1] and m[0, 0] > m[2, 2]:
+        s = 2.0 * np.sqrt(1.0 + m[0, 0] - m[1, 1] - m[2, 2])
+        q = np.array(
+            [(m[2, 1] - m[1, 2]) / s, 0.25 * s, (m[0, 1] + m[1, 0]) / s, (m[0, 2] + m[2, 0]) / s]
+        )
+    elif m[1, 1] > m[2, 2]:
+        s = 2.0 * np.sqrt(1.0 + m[1, 1] - m[0, 0] - m[2, 2])
+        q = np.array(
+            [(m[0, 2] - m[2, 0]) / s, (m[0, 1] + m[1, 0]) / s, 0.25 * s, (m[1, 2] + m[2, 1]) / s]
+        )
+    else:
+        s = 2.0 * np.sqrt(1.0 + m[2, 2] - m[0, 0] - m[1, 1])
+        q = np.array(
+            [(m[1, 0] - m[0, 1]) / s, (m[0, 2] + m[2, 0]) / s, (m[1, 2] + m[2, 1]) / s, 0.25 * s]
+        )
+    q /= np.linalg.norm(q)
+    return -q if q[0] < 0 else q
+
+
+def log(rotation: np.ndarray) -> np.ndarray:
+    """Rotation vector [rad] of a rotation matrix (angle in [0, pi])."""
+    cos_angle = np.clip((np.trace(rotation) - 1.0) / 2.0, -1.0, 1.0)
+    angle = np.arccos(cos_angle)
+    axis_times_sin = 0.5 * np.array(
+        [
+            rotation[2, 1] - rotation[1, 2],
+            rotation[0, 2] - rotation[2, 0],
+            rotation[1, 0] - rotation[0, 1],
+        ]
+    )
+    if angle < 1e-6:
+        return axis_times_sin  # sin(angle) ~ angle
+    if np.pi - angle < 1e-6:  # near pi: axis from the symmetric part
+        symmetric = (rotation + np.eye(3)) / 2.0
+        axis = np.sqrt(np.clip(np.diag(symmetric), 0.0, None))
+        k = int(np.argmax(axis))
+        axis = symmetric[k] / axis[k]
+        return angle * axis / np.linalg.norm(axis)
+    return angle / np.sin(angle) * axis_times_sin
+
+
+def exp(rotation_vector: np.ndarray) -> np.ndarray:
+    """Rotation matrix of a rotation vector [rad] (Rodrigues' formula)."""
+    angle = float(np.linalg.norm(rotation_vector))
+    x, y, z = rotation_vector
+    skew = np.array([[0.0, -z, y], [z, 0.0, -x], [-y, x, 0.0]])
+    if angle < 1e-9:
+        return np.eye(3) + skew
+    return np.eye(3) + np.sin(angle) / angle * skew + (1 - np.cos(angle)) / angle**2 * skew @ skew
+
+
+def rotation_error(target: np.ndarray, actual: np.ndarray) -> np.ndarray:
+    """Rotation vector [rad], world axes, that turns `actual` into `target`: log(T A^T)."""
+    return log(target @ actual.T)
+
+
+def rotate_by_vector(rotation_vector: np.ndarray, rotation: np.ndarray) -> np.ndarray:
+    """exp(rotation_vector) rotation: `rotation` turned by a world-axes rotation vector."""
+    return exp(rotation_vector) @ rotation

@@ -1,0 +1,167 @@
+"""State estimators: `Sensors` -> `RobotState` with CoM, measured contact wrenches and ZMP.
+
+- `ground_truth`: base pose and twist from the simulator's ground truth.
+- `proprioceptive`: what a real robot knows. Base orientation from the IMU, base angular
+  velocity from the gyro, base position and linear velocity from stance-foot kinematics: a
+  foot whose force sensor carries more than `contact_threshold` of the weight is taken as
+  not moving; its world position is remembered when it lands (its anchor) and the base is
+  placed so that the foot is at its anchor (several stance feet: weighted by their vertical
+  forces); the base velocity makes the stance feet's velocity zero.
+
+Both compute the CoM and its velocity (pinocchio) and the measured ZMP on z = 0 from the force
+sensors of the limbs in contact.
+"""
+
+from __future__ import annotations
+
+from dataclasses import replace
+from typing import Protocol
+
+import numpy as np
+import pinocchio as pin
+
+from centroidal.wrench import resultant_about_origin, zmp_on_plane
+from robots.model import RobotModel
+from robots.types import RobotState, Sensors
+
+
+class Estimator(Protocol):
+    name: str
+
+    def reset(self, initial: RobotState, sensors: Sensors) -> None: ...
+    def estimate(self, sensors: Sensors) -> RobotState: ...
+
+
+class _EstimatorBase:
+    name = "base"
+
+    def __init__(self, model: RobotModel) -> None:
+        self.robot_model = model
+        self.model = model.model
+        self.data = self.model.createData()
+        robot = model.robot
+        self.limb_frames = [model.frame_id[limb.contact_frame] for limb in robot.limbs]
+        self.foot_index = [k for k, limb in enumerate(robot.limbs) if limb.name.endswith("foot")]
+
+    def reset(self, initial: RobotState, sensors: Sensors) -> None:
+        """Start from the known initial state (the scenario's)."""
+
+    def _complete(self, state: RobotState, sensors: Sensors) -> RobotState:
+        """Add CoM, CoM velocity, measured wrenches, contact flags and ZMP to `state`."""
+        q = self.robot_model.configuration(state)
+        v = self.robot_model.velocity(state)
+        com = pin.centerOfMass(self.model, self.data, q, v).copy()
+        com_velocity = self.data.vcom[0].copy()
+        pin.updateFramePlacements(self.model, self.data)
+        placements = [self.data.oMf[f] for f in self.limb_frames]
+        positions = np.array([p.translation for p in placements])
+        rotations = np.array([p.rotation for p in placements])
+        flags = sensors.contact_flag_limb
+        resultant = resultant_about_origin(
+            positions[flags], rotations[flags], sensors.contact_wrench_limb[flags]
+        )
+        return replace(
+            state,
+            time=sensors.time,
+            com_position_world=com,
+            com_velocity_world=com_velocity,
+            contact_wrench_limb=sensors.contact_wrench_limb,
+            contact_flag_limb=flags,
+            zmp_world=zmp_on_plane(resultant),
+        )
+
+
+class GroundTruthEstimator(_EstimatorBase):
+    name = "ground_truth"
+
+    def estimate(self, sensors: Sensors) -> RobotState:
+        return self._complete(sensors.ground_truth(), sensors)
+
+
+class ProprioceptiveEstimator(_EstimatorBase):
+    name = "proprioceptive"
+
+    def __init__(self, model: RobotModel, contact_threshold: float = 0.05) -> None:
+        super().__init__(model)
+        self.contact_force = contact_threshold * model.robot.total_mass * 9.81
+        self.anchors = np.zeros((len(self.limb_frames), 3))
+        self.in_contact = np.zeros(len(self.limb_frames), dtype=bool)
+        self.base_position = np.zeros(3)
+        self.base_velocity = np.zeros(3)
+        self.last_time = 0.0
+
+    def reset(self, initial: RobotState, sensors: Sensors) -> None:
+        q = self.robot_model.configuration(initial)
+        pin.framesForwardKinematics(self.model, self.data, q)
+        self.anchors = np.array([self.data.oMf[f].translation for f in self.limb_frames])
+        self.in_contact = np.zeros(len(self.limb_frames), dtype=bool)
+        self.in_contact[self.foot_index] = True
+        self.base_position = np.array(initial.base_position_world, dtype=float)
+        self.base_velocity = np.array(initial.base_linear_velocity_world, dtype=float)
+        self.last_time = sensors.time
+
+    def estimate(self, sensors: Sensors) -> RobotState:
+        orientation = sensors.imu_orientation_world  # the IMU frame has the base's axes
+        rotation = pin.Quaternion(*orientation).normalized().toRotationMatrix()
+        omega_world = rotation @ sensors.imu_angular_velocity_imu
+        # Kinematics with the base at the origin and the estimated orientation.
+        relative = RobotState(
+            np.zeros(3),
+            orientation,
+            np.zeros(3),
+            omega_world,
+            sensors.joint_position,
+            sensors.joint_velocity,
+        )
+        q = self.robot_model.configuration(relative)
+        v = self.robot_model.velocity(relative)
+        pin.computeJointJacobians(self.model, self.data, q)
+        pin.updateFramePlacements(self.model, self.data)
+        vertical = sensors.contact_wrench_limb[:, 2]
+        stance = np.zeros_like(self.in_contact)
+        stance[self.foot_index] = vertical[self.foot_index] > self.contact_force
+        dt = max(sensors.time - self.last_time, 0.0)
+        self.last_time = sensors.time
+        if stance.any():
+            offsets = np.array(
+                [self.data.oMf[self.limb_frames[k]].translation for k in np.flatnonzero(stance)]
+            )
+            landed = stance & ~self.in_contact
+            for k in np.flatnonzero(landed):  # anchor a newly landed foot where it is
+                self.anchors[k] = (
+                    self.base_position + self.data.oMf[self.limb_frames[k]].translation
+                )
+            weights = vertical[stance] / vertical[stance].sum()
+            self.base_position = weights @ (self.anchors[stance] - offsets)
+            # Stance feet do not move: J_lin(foot) v = 0 solved for the base linear velocity.
+            velocities = []
+            for k in np.flatnonzero(stance):
+                jacobian = pin.getFrameJacobian(
+                    self.model, self.data, self.limb_frames[k], pin.LOCAL_WORLD_ALIGNED
+                )[:3]
+                rest = jacobian[:, 3:] @ v[3:]
+                velocities.append(-np.linalg.solve(jacobian[:, :3], rest))
+            base_velocity_local = weights @ np.array(velocities)
+            self.base_velocity = rotation @ base_velocity_local
+        else:  # flight: carry on with the last velocity
+            self.base_position = self.base_position + self.base_velocity * dt
+        self.in_contact = stance
+        state = RobotState(
+            self.base_position.copy(),
+            orientation.copy(),
+            self.base_velocity.copy(),
+            omega_world,
+            sensors.joint_position,
+            sensors.joint_velocity,
+        )
+        return self._complete(state, sensors)
+
+
+ESTIMATORS = {"ground_truth": GroundTruthEstimator, "proprioceptive": ProprioceptiveEstimator}
+
+
+def make_estimator(name: str, model: RobotModel) -> Estimator:
+    """An estimator by name; unknown names raise KeyError listing the known ones."""
+    if name not in ESTIMATORS:
+        raise KeyError(f"unknown estimator {name!r}; choose one of: {', '.join(ESTIMATORS)}")
+    return ESTIMATORS[name](model)

@@ -1,0 +1,107 @@
+"""The world and the experiment as data: scene geometry and physics settings, contact phases,
+pushes, scenarios. Shared by simulators (which build the scene) and controllers (which read
+the contact sequence)."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+
+@dataclass(frozen=True)
+class Box:
+    """A static box: centre [m] and orientation (w, x, y, z) in the world, half extents [m]."""
+
+    name: str
+    center_world: tuple[float, float, float]
+    half_extents: tuple[float, float, float]
+    orientation_world: tuple[float, float, float, float] = (1.0, 0.0, 0.0, 0.0)
+
+
+@dataclass(frozen=True)
+class Scene:
+    """friction: Coulomb coefficient of every contact (robot-ground and robot-box); gravity
+    [m/s^2] (world Z up); physics_dt [s] of one simulator step; control_dt [s] of one
+    `Simulator.step` (an integer number of physics steps)."""
+
+    boxes: tuple[Box, ...] = ()
+    friction: float = 0.6
+    gravity: float = 9.81
+    physics_dt: float = 0.001
+    control_dt: float = 0.002
+    ground: bool = True
+    max_tilt: float = np.deg2rad(30.0)
+    """Base tilt [rad] above which the robot counts as fallen."""
+
+    @property
+    def substeps(self) -> int:
+        n = round(self.control_dt / self.physics_dt)
+        if n < 1 or abs(n * self.physics_dt - self.control_dt) > 1e-12:
+            raise ValueError(
+                f"control_dt {self.control_dt} s is not a whole number of physics steps "
+                f"of {self.physics_dt} s"
+            )
+        return n
+
+    def validate(self) -> None:
+        if self.friction <= 0:
+            raise ValueError(f"friction must be positive, got {self.friction}")
+        if self.physics_dt <= 0:
+            raise ValueError(f"physics_dt must be positive, got {self.physics_dt}")
+        _ = self.substeps
+
+
+@dataclass(frozen=True)
+class Contact:
+    """A limb in contact: its contact frame's pose in the world, position [m] and orientation
+    (w, x, y, z)."""
+
+    limb: str
+    position_world: tuple[float, float, float]
+    orientation_world: tuple[float, float, float, float] = (1.0, 0.0, 0.0, 0.0)
+
+
+@dataclass(frozen=True)
+class ContactPhase:
+    """The contacts that hold from `start` to `end` [s]."""
+
+    start: float
+    end: float
+    contacts: tuple[Contact, ...]
+
+    @property
+    def limbs(self) -> tuple[str, ...]:
+        return tuple(c.limb for c in self.contacts)
+
+
+@dataclass(frozen=True)
+class PushEvent:
+    """A push: at `time` [s], `impulse_world` [N s] at `link`'s centre of mass, spread over
+    `duration` [s]."""
+
+    time: float
+    link: str
+    impulse_world: tuple[float, float, float]
+    duration: float = 0.1
+
+
+@dataclass(frozen=True)
+class Scenario:
+    """One experiment, as data: the scene, the contact sequence (phases cover [0, duration]),
+    the pushes, the initial joint posture [rad] (the base is placed so the soles are on the
+    ground) and the duration [s]."""
+
+    name: str
+    duration: float
+    scene: Scene
+    phases: tuple[ContactPhase, ...]
+    initial_posture: tuple[float, ...]
+    pushes: tuple[PushEvent, ...] = ()
+
+    def phase_at(self, time: float) -> ContactPhase:
+        """The contact phase holding at `time` [s] (the last one after the end)."""
+        for phase in self.phases:
+            if phase.start <= time < phase.end:
+                return phase
+        return self.phases[-1]

@@ -1,0 +1,199 @@
+"""The control-loop runner: failures are data, the summary contract, and the minimal
+controllers standing and being pushed in both simulators."""
+
+import json
+import subprocess
+import sys
+
+import numpy as np
+import pytest
+
+from bench.results import read_trace, write_trace
+from bench.runner import EpisodeSpec, run_episode, summary_json_ready
+from stabilizers import base as stabilizer_registry
+from stabilizers.posture import PostureStabilizer
+
+SIMS = ["mujoco", "pybullet"]
+CONTRACT = {
+    "planner",
+    "stabilizer",
+    "sim",
+    "scenario",
+    "seed",
+    "status",
+    "fell",
+    "fall_time",
+    "duration",
+    "real_time_factor",
+    "latency_us",
+    "com_error_rms_m",
+    "error",
+    "versions",
+    "git_commit",
+    "cpu",
+}
+STAGES = {"estimator", "planner", "stabilizer", "whole_body", "sim", "control_total"}
+
+
+class _Failing(PostureStabilizer):
+    """Raises, or returns NaN, from t = 0.1 s on."""
+
+    mode = "raise"
+
+    def stabilize(self, t, plan, state):
+        targets = super().stabilize(t, plan, state)
+        if t >= 0.1 - 1e-9:
+            if self.mode == "raise":
+                raise RuntimeError("boom")
+            targets.com_position_world[:] = np.nan
+        return targets
+
+
+class _NaN(_Failing):
+    mode = "nan"
+
+
+@pytest.fixture
+def failing(monkeypatch):
+    stabilizer_registry.stabilizer_spec("posture")  # load the registry first
+    for name, cls in (("failing", _Failing), ("nan", _NaN)):
+        monkeypatch.setitem(
+            stabilizer_registry.STABILIZERS,
+            name,
+            stabilizer_registry.StabilizerSpec(name, cls, "test"),
+        )
+
+
+@pytest.mark.parametrize(
+    ("name", "message"),
+    [("failing", "stabilizer: RuntimeError: boom"), ("nan", "stabilizer returned a non-finite")],
+)
+def test_a_failing_stage_is_recorded_and_the_trace_kept(failing, name, message):
+    result = run_episode(EpisodeSpec("hold", name, "mujoco", "stand", duration=1.0))
+    summary = result.summary
+    assert summary["status"] == "error"
+    assert message in summary["error"]
+    assert summary["fell"] is False
+    assert len(result.trace) == 50  # the periods before t = 0.1 s
+    assert result.trace["time"].iloc[-1] == pytest.approx(0.098)
+    assert summary["duration"] == pytest.approx(0.1)
+
+
+def test_a_bad_spec_is_an_error_row_not_an_exception():
+    result = run_episode(EpisodeSpec("nonexistent", "posture", "mujoco", "stand"))
+    assert result.summary["status"] == "error"
+    assert "unknown planner 'nonexistent'; choose one of: hold" in result.summary["error"]
+    assert len(result.trace) == 0
+
+
+@pytest.fixture(scope="module")
+def standing():
+    return {sim: run_episode(EpisodeSpec("hold", "posture", sim, "stand")) for sim in SIMS}
+
+
+@pytest.mark.parametrize("sim", SIMS)
+def test_hold_posture_stands_ten_seconds(standing, sim):
+    result = standing[sim]
+    summary = result.summary
+    assert summary["status"] == "ok"
+    assert summary["fell"] is False
+    assert summary["fall_time"] is None
+    assert summary["duration"] == pytest.approx(10.0)
+    com = result.trace[["com_actual_x", "com_actual_y"]].to_numpy()
+    assert np.linalg.norm(com - com[0], axis=1).max() < 0.01
+    # the feet carry the weight throughout
+    fz = (
+        result.trace["wrench_measured_left_foot_fz"] + result.trace["wrench_measured_right_foot_fz"]
+    )
+    assert np.abs(fz.iloc[250:] / (58.4 * 9.81) - 1).max() < 0.02
+
+
+@pytest.mark.parametrize("sim", SIMS)
+def test_summary_contract(standing, sim):
+    summary = summary_json_ready(standing[sim].summary)
+    assert set(summary) >= CONTRACT
+    assert set(summary["latency_us"]) >= STAGES
+    for stats in summary["latency_us"].values():
+        assert 0 < stats["median"] <= stats["p99"] <= stats["max"]
+    total = summary["latency_us"]["control_total"]["median"]
+    parts = sum(summary["latency_us"][s]["median"] for s in STAGES - {"sim", "control_total"})
+    assert total == pytest.approx(parts, rel=0.5)  # medians of a sum vs sum of medians
+    for package in ("mujoco", "pybullet", "pin", "qpsolvers"):
+        assert summary["versions"][package]
+    json.dumps(summary)  # serialisable as it stands
+
+
+@pytest.mark.parametrize("sim", SIMS)
+def test_small_push_survived_large_push_falls(sim):
+    small = run_episode(
+        EpisodeSpec(
+            "hold",
+            "posture",
+            sim,
+            "stand_push",
+            duration=5.0,
+            push_impulse=10.0,
+            push_direction_deg=0.0,
+        )
+    )
+    assert small.summary["status"] == "ok"
+    large = run_episode(
+        EpisodeSpec(
+            "hold",
+            "posture",
+            sim,
+            "stand_push",
+            duration=5.0,
+            push_impulse=40.0,
+            push_direction_deg=90.0,
+        )
+    )
+    assert large.summary["status"] == "fell"
+    assert large.summary["fell"] is True
+    assert 2.0 < large.summary["fall_time"] < 5.0
+    # pushed to the left: the CoM left the support to the left
+    assert large.trace["com_actual_y"].iloc[-1] > 0.05
+
+
+def test_trace_round_trips_through_parquet(standing, tmp_path):
+    result = standing["mujoco"]
+    path = write_trace(result.trace, summary_json_ready(result.summary), tmp_path / "t.parquet")
+    trace, summary = read_trace(path)
+    assert summary["status"] == "ok"
+    assert list(trace.columns) == list(result.trace.columns)
+    np.testing.assert_array_equal(trace["com_actual_x"], result.trace["com_actual_x"])
+    assert trace["contact_left_foot"].dtype == bool
+
+
+@pytest.mark.parametrize("sim", SIMS)
+def test_cli_run_json(sim):
+    result = subprocess.run(
+        [
+            sys.executable,
+            "-m",
+            "bench.cli",
+            "run",
+            "--planner",
+            "hold",
+            "--stabilizer",
+            "posture",
+            "--sim",
+            sim,
+            "--scenario",
+            "stand",
+            "--duration",
+            "1",
+            "--json",
+        ],
+        capture_output=True,
+        text=True,
+        timeout=300,
+        check=False,
+    )
+    assert result.returncode == 0, result.stderr
+    lines = result.stdout.strip().splitlines()
+    assert len(lines) == 1
+    summary = json.loads(lines[0])
+    assert summary["fell"] is False
+    assert summary["sim"] == sim
+    assert set(summary["latency_us"]) >= STAGES

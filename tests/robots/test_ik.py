@@ -1,0 +1,210 @@
+"""Whole-body IK: reachable targets are reached, limits always hold, the Jacobians it uses
+match finite differences."""
+
+import numpy as np
+import pinocchio as pin
+import pytest
+
+from centroidal.rotations import from_matrix, log
+from robots.humanoid import humanoid
+from robots.ik import IKWeights, WholeBodyIK
+from robots.model import RobotModel
+from robots.types import RobotState, WholeBodyTargets
+
+DT = 0.002
+
+
+@pytest.fixture(scope="module")
+def model():
+    return RobotModel(humanoid())
+
+
+def _targets_of(model, state, in_contact=(True, True, False, False)):
+    robot = model.robot
+    poses = [model.frame_pose(state, limb.contact_frame) for limb in robot.limbs]
+    com = model.com_position_world(state)
+    return WholeBodyTargets(
+        com_position_world=com,
+        base_orientation_world=state.base_orientation_world,
+        limb_position_world=np.array([p for p, _ in poses]),
+        limb_orientation_world=np.array([from_matrix(r) for _, r in poses]),
+        limb_in_contact=np.array(in_contact),
+        com_desired_world=com,
+        zmp_desired_world=np.zeros(3),
+    )
+
+
+def _ik_state(ik):
+    q = ik.q
+    return RobotState.at_rest(q[:3], np.r_[q[6], q[3:6]], q[7:])
+
+
+@pytest.mark.parametrize("seed", range(4))
+def test_reachable_targets_are_reached(model, seed):
+    """Targets taken from a random configuration (base moved and turned, every joint moved
+    within its limits) are reached from the standing posture to < 1 mm and < 0.01 rad."""
+    robot = model.robot
+    rng = np.random.default_rng(seed)
+    lower, upper = robot.array("lower"), robot.array("upper")
+    joints = np.clip(
+        np.array(robot.nominal_posture) + rng.uniform(-0.3, 0.3, robot.n_joints),
+        lower + 0.05,
+        upper - 0.05,
+    )
+    yaw = rng.uniform(-0.2, 0.2)
+    start = model.standing_state()
+    goal = RobotState.at_rest(
+        start.base_position_world + rng.uniform(-0.05, 0.05, 3),
+        [np.cos(yaw / 2), 0, 0, np.sin(yaw / 2)],
+        joints,
+    )
+    targets = _targets_of(model, goal)
+    ik = WholeBodyIK(model, DT)
+    ik.reset(start)
+    for _ in range(1500):
+        ik.solve(targets)
+    reached = _ik_state(ik)
+    assert np.linalg.norm(model.com_position_world(reached) - targets.com_position_world) < 1e-3
+    for limb in robot.limbs:
+        p, r = model.frame_pose(reached, limb.contact_frame)
+        p_goal, r_goal = model.frame_pose(goal, limb.contact_frame)
+        assert np.linalg.norm(p - p_goal) < 1e-3
+        assert np.linalg.norm(log(r @ r_goal.T)) < 0.01
+
+
+def test_unreachable_targets_keep_joints_within_limits(model):
+    robot = model.robot
+    start = model.standing_state()
+    targets = _targets_of(model, start)
+    far = targets.limb_position_world.copy()
+    far[2] += [1.5, 1.0, 1.0]  # left hand 2 m away
+    far[3] += [-1.0, -1.5, -1.0]
+    targets = WholeBodyTargets(
+        targets.com_position_world + np.array([0.5, 0.3, -0.6]),
+        targets.base_orientation_world,
+        far,
+        targets.limb_orientation_world,
+        targets.limb_in_contact,
+        targets.com_desired_world,
+        targets.zmp_desired_world,
+    )
+    ik = WholeBodyIK(model, DT)
+    ik.reset(start)
+    speed_limit = robot.array("velocity_limit")
+    for _ in range(600):
+        joints, velocity = ik.solve(targets)
+        assert np.all(joints >= robot.array("lower"))
+        assert np.all(joints <= robot.array("upper"))
+        assert np.all(np.abs(velocity) <= speed_limit * (1 + 1e-6))
+    at_limit = np.isclose(joints, robot.array("lower")) | np.isclose(joints, robot.array("upper"))
+    assert at_limit.any()  # the targets really pushed some joint to its limit
+
+
+def test_contact_limbs_are_held_when_the_com_target_conflicts(model):
+    """The CoM is asked to move 7 cm while the hands are also held where they are, which the
+    arms cannot fully satisfy: the compromise moves the CoM most of the way and leaves the
+    contact feet where they are (they carry the largest weight)."""
+    start = model.standing_state()
+    targets = _targets_of(model, start)
+    shift = np.array([0.03, 0.04, -0.05])
+    moved = WholeBodyTargets(
+        targets.com_position_world + shift,
+        *[
+            getattr(targets, f)
+            for f in (
+                "base_orientation_world",
+                "limb_position_world",
+                "limb_orientation_world",
+                "limb_in_contact",
+                "com_desired_world",
+                "zmp_desired_world",
+            )
+        ],
+    )
+    ik = WholeBodyIK(model, DT)
+    ik.reset(start)
+    for _ in range(300):
+        ik.solve(moved)
+    state = _ik_state(ik)
+    for k in (0, 1):
+        p, r = model.frame_pose(state, model.robot.limbs[k].contact_frame)
+        assert np.linalg.norm(p - targets.limb_position_world[k]) < 5e-5
+        assert np.linalg.norm(log(r)) < 1e-4  # still flat
+    remaining = np.linalg.norm(model.com_position_world(state) - moved.com_position_world)
+    assert remaining < 0.5 * np.linalg.norm(shift)
+
+
+def test_angular_momentum_task_reduces_momentum_of_the_step(model):
+    """Murooka V-F: with the centroidal angular momentum task, the IK step carries less
+    angular momentum I_all dq than without it, for the same targets."""
+    start = model.standing_state()
+    targets = _targets_of(model, start, in_contact=(True, True, False, False))
+    hands = targets.limb_position_world.copy()
+    hands[2] += [0.2, 0.0, 0.2]
+    hands[3] += [0.2, 0.0, 0.2]
+    targets = WholeBodyTargets(
+        targets.com_position_world,
+        targets.base_orientation_world,
+        hands,
+        targets.limb_orientation_world,
+        targets.limb_in_contact,
+        targets.com_desired_world,
+        targets.zmp_desired_world,
+    )
+    momentum = {}
+    for weight in (0.0, 100.0):
+        ik = WholeBodyIK(model, DT, IKWeights(angular_momentum=weight))
+        ik.reset(start)
+        q0 = ik.q.copy()
+        ik.solve(targets)
+        step = pin.difference(model.model, q0, ik.q) / DT
+        momentum[weight] = np.linalg.norm(
+            pin.computeCentroidalMap(model.model, model.model.createData(), q0)[3:] @ step
+        )
+    assert momentum[100.0] < 0.5 * momentum[0.0]
+
+
+def _finite_difference(function, q, model, eps=1e-7):
+    value = function(q)
+    columns = []
+    for i in range(model.nv):
+        dv = np.zeros(model.nv)
+        dv[i] = eps
+        columns.append((function(pin.integrate(model, q, dv)) - value) / eps)
+    return np.array(columns).T
+
+
+def test_jacobians_used_by_the_ik_match_finite_differences(model):
+    """The CoM Jacobian, the limb-frame Jacobians (LOCAL_WORLD_ALIGNED) and the base angular
+    Jacobian that the IK uses, against finite differences of forward kinematics."""
+    m, data = model.model, model.model.createData()
+    q = pin.randomConfiguration(
+        m, np.r_[-np.ones(7), m.lowerPositionLimit[7:]], np.r_[np.ones(7), m.upperPositionLimit[7:]]
+    )
+    q[3:7] /= np.linalg.norm(q[3:7])
+    pin.computeJointJacobians(m, data, q)
+    pin.updateFramePlacements(m, data)
+    pin.centerOfMass(m, data, q, False)
+    jacobian_com = pin.jacobianCenterOfMass(m, data, False).copy()
+    numeric = _finite_difference(lambda x: pin.centerOfMass(m, m.createData(), x), q, m)
+    np.testing.assert_allclose(jacobian_com, numeric, atol=1e-6)
+    for name in ["left_sole", "right_palm", "torso"]:
+        frame = model.frame_id[name]
+        analytic = pin.getFrameJacobian(m, data, frame, pin.LOCAL_WORLD_ALIGNED).copy()
+        reference = data.oMf[frame].copy()
+
+        def pose_error(x, frame=frame, reference=reference):
+            d = m.createData()
+            pin.framesForwardKinematics(m, d, x)
+            placement = d.oMf[frame]
+            return np.r_[
+                placement.translation - reference.translation,
+                log(placement.rotation @ reference.rotation.T),
+            ]
+
+        np.testing.assert_allclose(analytic, _finite_difference(pose_error, q, m), atol=1e-6)
+
+
+def test_unknown_solver_is_rejected(model):
+    with pytest.raises(ValueError, match="available"):
+        WholeBodyIK(model, DT, solver="no_such_solver")

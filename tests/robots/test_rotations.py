@@ -1,0 +1,28 @@
+"""The numpy rotation helpers against scipy."""
+
+import numpy as np
+import pytest
+from scipy.spatial.transform import Rotation
+
+from centroidal import rotations
+
+
+@pytest.mark.parametrize("seed", range(50))
+def test_rotations_agree_with_scipy(seed):
+    reference = Rotation.random(random_state=seed)
+    matrix = reference.as_matrix()
+    x, y, z, w = reference.as_quat()
+    np.testing.assert_allclose(rotations.to_matrix(np.array([w, x, y, z])), matrix, atol=1e-12)
+    back = rotations.from_matrix(matrix)
+    assert back[0] >= 0
+    np.testing.assert_allclose(np.abs(back @ [w, x, y, z]), 1.0, atol=1e-12)
+    np.testing.assert_allclose(rotations.log(matrix), reference.as_rotvec(), atol=1e-9)
+    np.testing.assert_allclose(rotations.exp(reference.as_rotvec()), matrix, atol=1e-12)
+
+
+@pytest.mark.parametrize("angle", [0.0, 1e-8, np.pi - 1e-7, np.pi])
+def test_log_near_zero_and_pi(angle):
+    axis = np.array([1.0, -2.0, 0.5]) / np.linalg.norm([1.0, -2.0, 0.5])
+    matrix = Rotation.from_rotvec(angle * axis).as_matrix()
+    result = rotations.exp(rotations.log(matrix))
+    np.testing.assert_allclose(result, matrix, atol=1e-6)
