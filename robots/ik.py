@@ -80,7 +80,9 @@ class WholeBodyIK:
         self.max_step = robot.array("velocity_limit") * dt
         self.nominal = np.array(robot.nominal_posture)
         self.q = pin.neutral(self.model)
-        self._big = 1e10  # "unbounded" for the base coordinates
+        # The base step is bounded too, by 1 m / 1 rad per call: never active in practice, and
+        # interior-point solvers (clarabel) fail on huge placeholder bounds.
+        self._base_step = 1.0
 
     def reset(self, state: RobotState) -> None:
         """Start from `state`'s configuration."""
@@ -138,8 +140,8 @@ class WholeBodyIK:
         hessian = jacobian.T @ weighted + w.damping * np.eye(self.nv)
         gradient = -weighted.T @ error
 
-        lower = np.full(self.nv, -self._big)
-        upper = np.full(self.nv, self._big)
+        lower = np.full(self.nv, -self._base_step)
+        upper = np.full(self.nv, self._base_step)
         joints = q[7:]
         lower[6:] = np.minimum(np.maximum(self.lower - joints, -self.max_step), 0.0)
         upper[6:] = np.maximum(np.minimum(self.upper - joints, self.max_step), 0.0)
