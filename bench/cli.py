@@ -26,30 +26,9 @@ class _Parser(argparse.ArgumentParser):
         raise UsageError(message)
 
 
-def _positive(kind: str):
-    def parse(text: str) -> float:
-        try:
-            value = float(text)
-        except ValueError:
-            raise argparse.ArgumentTypeError(f"{kind} must be a number, got {text!r}") from None
-        if not np.isfinite(value) or value <= 0:
-            raise argparse.ArgumentTypeError(f"{kind} must be a positive number, got {text}")
-        return value
+def _number(kind: str, minimum: float | None = None, strict: bool = False):
+    """An argparse type: a finite float, above `minimum` (strict) or at least it."""
 
-    return parse
-
-
-def _non_negative(kind: str):
-    def parse(text: str) -> float:
-        value = _finite(kind)(text)
-        if value < 0:
-            raise argparse.ArgumentTypeError(f"{kind} must be >= 0, got {text}")
-        return value
-
-    return parse
-
-
-def _finite(kind: str):
     def parse(text: str) -> float:
         try:
             value = float(text)
@@ -57,9 +36,16 @@ def _finite(kind: str):
             raise argparse.ArgumentTypeError(f"{kind} must be a number, got {text!r}") from None
         if not np.isfinite(value):
             raise argparse.ArgumentTypeError(f"{kind} must be finite, got {text}")
+        if minimum is not None and (value <= minimum if strict else value < minimum):
+            bound = "a positive number" if strict and minimum == 0 else f">= {minimum:g}"
+            raise argparse.ArgumentTypeError(f"{kind} must be {bound}, got {text}")
         return value
 
     return parse
+
+
+def _positive(kind: str):
+    return _number(kind, 0.0, strict=True)
 
 
 def _one_simulator(text: str) -> str:
@@ -119,13 +105,13 @@ def build_parser() -> argparse.ArgumentParser:
     )
     run.add_argument(
         "--push-impulse",
-        type=_non_negative("--push-impulse"),
+        type=_number("--push-impulse", 0.0),
         default=None,
         help="push impulse [N s] (scenarios with a push)",
     )
     run.add_argument(
         "--push-direction",
-        type=_finite("--push-direction"),
+        type=_number("--push-direction"),
         default=None,
         help="push direction [deg], 0 = forward (+x), 90 = left (+y)",
     )
@@ -258,15 +244,13 @@ def _run(args: argparse.Namespace) -> int:
 
 def _list(args: argparse.Namespace) -> int:
     from bench.scenarios import SCENARIOS
-    from planners.base import PLANNERS, planner_spec
+    from planners.base import PLANNERS
     from robots.estimators import ESTIMATORS
-    from stabilizers.base import STABILIZERS, stabilizer_spec
+    from stabilizers.base import STABILIZERS
 
-    planner_spec("hold")  # loads the registries
-    stabilizer_spec("posture")
     sections = {
-        "planners": {n: p.description for n, p in sorted(PLANNERS.items())},
-        "stabilizers": {n: s.description for n, s in sorted(STABILIZERS.items())},
+        "planners": {n: PLANNERS.get(n).description for n in PLANNERS.names()},
+        "stabilizers": {n: STABILIZERS.get(n).description for n in STABILIZERS.names()},
         "scenarios": {n: s.description for n, s in SCENARIOS.items()},
         "simulators": {n: "" for n in SIMULATORS},
         "estimators": {n: "" for n in ESTIMATORS},

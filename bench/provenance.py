@@ -25,24 +25,16 @@ def versions() -> dict[str, str | None]:
 @functools.cache
 def git_commit() -> str | None:
     """The checkout's commit (with "-dirty" if it has uncommitted changes), or None."""
-    root = Path(__file__).resolve().parents[1]
+
+    def git(*args: str) -> str:
+        root = Path(__file__).resolve().parents[1]
+        return subprocess.run(
+            ["git", *args], cwd=root, capture_output=True, text=True, timeout=10, check=True
+        ).stdout.strip()
+
     try:
-        commit = subprocess.run(
-            ["git", "rev-parse", "HEAD"],
-            cwd=root,
-            capture_output=True,
-            text=True,
-            timeout=10,
-            check=True,
-        ).stdout.strip()
-        dirty = subprocess.run(
-            ["git", "status", "--porcelain", "--untracked-files=no"],
-            cwd=root,
-            capture_output=True,
-            text=True,
-            timeout=10,
-            check=True,
-        ).stdout.strip()
+        commit = git("rev-parse", "HEAD")
+        dirty = git("status", "--porcelain", "--untracked-files=no")
     except (OSError, subprocess.SubprocessError):
         return None
     return commit + ("-dirty" if dirty else "")

@@ -55,10 +55,10 @@ class _NaN(_Failing):
 
 @pytest.fixture
 def failing(monkeypatch):
-    stabilizer_registry.stabilizer_spec("posture")  # load the registry first
+    stabilizer_registry.STABILIZERS.names()  # load the registry first
     for name, cls in (("failing", _Failing), ("nan", _NaN)):
         monkeypatch.setitem(
-            stabilizer_registry.STABILIZERS,
+            stabilizer_registry.STABILIZERS.specs,
             name,
             stabilizer_registry.StabilizerSpec(name, cls, "test"),
         )

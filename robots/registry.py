@@ -1,0 +1,55 @@
+"""A registry of named components (planners, stabilizers): filled when their modules are
+imported, and answering an unknown name with the list of known ones (DESIGN.md, registries)."""
+
+from __future__ import annotations
+
+import importlib
+from collections.abc import Callable
+from dataclasses import dataclass
+from typing import Any
+
+
+@dataclass(frozen=True)
+class ComponentSpec:
+    """A registered component: `factory(dt)` builds one for control period dt [s];
+    `pairs_with` names the only counterparts it makes sense with (empty: any)."""
+
+    name: str
+    factory: Callable[[float], Any]
+    description: str
+    pairs_with: tuple[str, ...] = ()
+
+
+class Registry:
+    """Named `ComponentSpec`s of one kind. `modules` are imported on first lookup, which
+    registers the built-in components."""
+
+    def __init__(self, kind: str, modules: tuple[str, ...]) -> None:
+        self.kind = kind
+        self.modules = modules
+        self.specs: dict[str, ComponentSpec] = {}
+        self._loaded = False
+
+    def register(self, spec: ComponentSpec) -> ComponentSpec:
+        if spec.name in self.specs:
+            raise ValueError(f"{self.kind} {spec.name!r} registered twice")
+        self.specs[spec.name] = spec
+        return spec
+
+    def _load(self) -> None:
+        if not self._loaded:
+            self._loaded = True
+            for module in self.modules:
+                importlib.import_module(module)
+
+    def names(self) -> list[str]:
+        self._load()
+        return sorted(self.specs)
+
+    def get(self, name: str) -> ComponentSpec:
+        """The spec `name`; unknown names raise KeyError listing the known ones."""
+        self._load()
+        if name not in self.specs:
+            known = ", ".join(sorted(self.specs))
+            raise KeyError(f"unknown {self.kind} {name!r}; choose one of: {known}")
+        return self.specs[name]
