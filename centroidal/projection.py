@@ -1,0 +1,213 @@
+"""Wrench projection and distribution (Murooka et al. 2022, eqs. 9 and 13):
+
+    min_lambda ||G lambda - w||^2 + eps ||lambda||^2   s.t.  0 <= lambda (<= upper)
+
+G (6 x n) stacks the contacts' generator matrices (`centroidal.contacts`), w the wanted contact
+wrench (force; moment about the world origin). eps (default 1e-8, relative to the problem
+scale it is negligible: 1e-8 N of force per unit ridge force) makes the problem strictly convex
+so every backend has the same unique answer; `upper` optionally bounds each ridge force.
+
+Backends, chosen by name (`BACKEND_NAMES`): scipy `nnls`; daqp, quadprog, proxqp, osqp,
+clarabel through qpsolvers (osqp and clarabel in the lifted form of `_qpsolvers_lifted`);
+`cvxpy` (one Parameter-based problem per ridge count, built once, OSQP underneath); `casadi` (a
+`conic` QP per ridge count, built once, qpOASES). The default is `DEFAULT_BACKEND`, the
+fastest accurate one in `make benchmark` (tests/benchmarks/test_projection.py); see README.
+"""
+
+from __future__ import annotations
+
+from typing import Protocol
+
+import numpy as np
+import qpsolvers
+import scipy.optimize
+import scipy.sparse
+
+DEFAULT_BACKEND = "daqp"
+REGULARIZATION = 1e-8
+
+
+class Backend(Protocol):
+    def __call__(
+        self, G: np.ndarray, w: np.ndarray, eps: float, upper: np.ndarray | None
+    ) -> np.ndarray: ...
+
+
+class ProjectionError(RuntimeError):
+    """The backend returned no solution."""
+
+
+def _nnls(G, w, eps, upper):
+    if upper is not None:
+        raise ValueError("the nnls backend has no upper bounds; choose a QP backend")
+    n = G.shape[1]
+    a = np.vstack([G, np.sqrt(eps) * np.eye(n)])
+    b = np.concatenate([w, np.zeros(n)])
+    return scipy.optimize.nnls(a, b, maxiter=50 * n)[0]
+
+
+# Per-solver settings so that every backend reaches the same answer to ~1e-9 relative.
+_QP_SETTINGS = {
+    "osqp": {"eps_abs": 1e-11, "eps_rel": 1e-11, "polish": True, "max_iter": 100000},
+    "clarabel": {"tol_gap_abs": 1e-10, "tol_gap_rel": 1e-10, "tol_feas": 1e-10},
+    "proxqp": {"eps_abs": 1e-11, "eps_rel": 0.0},
+}
+
+
+def _qpsolvers_lifted(solver: str) -> Backend:
+    """The same problem in lifted form: variables (lambda, r), min ||r||^2 + eps ||lambda||^2
+    s.t. G lambda - r = w. Its KKT system is well conditioned where the condensed Hessian
+    G^T G + eps I (rank <= 6 plus eps) is not, which ADMM and interior-point solvers need."""
+    settings = _QP_SETTINGS.get(solver, {})
+
+    def solve(G, w, eps, upper):
+        n = G.shape[1]
+        hessian = scipy.sparse.diags(np.r_[np.full(n, 2 * eps), np.full(6, 2.0)]).tocsc()
+        equality = scipy.sparse.hstack(
+            [scipy.sparse.csc_matrix(G), -scipy.sparse.identity(6)]
+        ).tocsc()
+        lower = np.r_[np.zeros(n), np.full(6, -np.inf)]
+        upper_all = np.r_[upper if upper is not None else np.full(n, np.inf), np.full(6, np.inf)]
+        solution = qpsolvers.solve_qp(
+            hessian,
+            np.zeros(n + 6),
+            A=equality,
+            b=w,
+            lb=lower,
+            ub=upper_all,
+            solver=solver,
+            **settings,
+        )
+        return None if solution is None else solution[:n]
+
+    return solve
+
+
+def _qpsolvers(solver: str) -> Backend:
+    settings = _QP_SETTINGS.get(solver, {})
+
+    def solve(G, w, eps, upper):
+        n = G.shape[1]
+        hessian = G.T @ G + eps * np.eye(n)
+        gradient = -G.T @ w
+        return qpsolvers.solve_qp(
+            hessian, gradient, lb=np.zeros(n), ub=upper, solver=solver, **settings
+        )
+
+    return solve
+
+
+class _Cvxpy:
+    """One problem per (ridge count, bounded or not), G and w as Parameters: built once."""
+
+    def __init__(self, solver: str = "OSQP") -> None:
+        self.solver = solver
+        self.problems: dict = {}
+
+    def __call__(self, G, w, eps, upper):
+        import cvxpy as cp
+
+        key = (G.shape[1], upper is not None, eps)
+        if key not in self.problems:
+            n = G.shape[1]
+            g, target, x = cp.Parameter((6, n)), cp.Parameter(6), cp.Variable(n)
+            residual = cp.Variable(6)  # lifted form, see _qpsolvers_lifted
+            bound = cp.Parameter(n) if upper is not None else None
+            constraints = [x >= 0, g @ x - residual == target]
+            constraints += [x <= bound] if bound is not None else []
+            objective = cp.sum_squares(residual) + eps * cp.sum_squares(x)
+            self.problems[key] = (
+                cp.Problem(cp.Minimize(objective), constraints),
+                g,
+                target,
+                bound,
+                x,
+            )
+        problem, g, target, bound, x = self.problems[key]
+        g.value, target.value = G, w
+        if bound is not None:
+            bound.value = upper
+        problem.solve(
+            solver=self.solver,
+            eps_abs=1e-11,
+            eps_rel=1e-11,
+            polish=True,
+            max_iter=100000,
+            warm_start=True,
+        )
+        return None if x.value is None else np.asarray(x.value)
+
+
+class _Casadi:
+    """One `casadi.conic` QP per ridge count (dense Hessian, no linear constraints)."""
+
+    def __init__(self, plugin: str = "qpoases") -> None:
+        self.plugin = plugin
+        self.solvers: dict = {}
+
+    def __call__(self, G, w, eps, upper):
+        import casadi as ca
+
+        n = G.shape[1]
+        if n not in self.solvers:
+            options = {"printLevel": "none"} if self.plugin == "qpoases" else {}
+            options["error_on_fail"] = False
+            sparsity = {"h": ca.Sparsity.dense(n, n), "a": ca.Sparsity(0, n)}
+            self.solvers[n] = ca.conic("projection", self.plugin, sparsity, options)
+        hessian = G.T @ G + eps * np.eye(n)
+        result = self.solvers[n](
+            h=hessian,
+            g=-G.T @ w,
+            lbx=np.zeros(n),
+            ubx=upper if upper is not None else np.full(n, np.inf),
+        )
+        if not self.solvers[n].stats()["success"]:
+            return None
+        return np.asarray(result["x"]).ravel()
+
+
+def _backends() -> dict[str, Backend]:
+    return {
+        "nnls": _nnls,
+        "daqp": _qpsolvers("daqp"),
+        "quadprog": _qpsolvers("quadprog"),
+        "proxqp": _qpsolvers("proxqp"),
+        "osqp": _qpsolvers_lifted("osqp"),
+        "clarabel": _qpsolvers_lifted("clarabel"),
+        "cvxpy": _Cvxpy(),
+        "casadi": _Casadi(),
+    }
+
+
+BACKEND_NAMES = ("nnls", "daqp", "quadprog", "proxqp", "osqp", "clarabel", "cvxpy", "casadi")
+
+
+class WrenchProjector:
+    """Solves the problem of the module docstring with one backend."""
+
+    def __init__(self, backend: str = DEFAULT_BACKEND, regularization: float = REGULARIZATION):
+        if backend not in BACKEND_NAMES:
+            raise KeyError(
+                f"unknown projection backend {backend!r}; choose one of: {', '.join(BACKEND_NAMES)}"
+            )
+        self.backend = backend
+        self.regularization = regularization
+        self._solve = _backends()[backend]
+
+    def ridge_forces(
+        self, G: np.ndarray, w: np.ndarray, upper: np.ndarray | None = None
+    ) -> np.ndarray:
+        """lambda (n,) >= 0 [N]; ProjectionError if the backend fails."""
+        if G.shape[1] == 0:
+            return np.zeros(0)
+        solution = self._solve(G, np.asarray(w, dtype=float), self.regularization, upper)
+        if solution is None or not np.all(np.isfinite(solution)):
+            raise ProjectionError(f"wrench projection ({self.backend}) found no solution")
+        return np.maximum(solution, 0.0)  # solver tolerance may leave -1e-12
+
+    def project(
+        self, G: np.ndarray, w: np.ndarray, upper: np.ndarray | None = None
+    ) -> tuple[np.ndarray, np.ndarray]:
+        """(G lambda, lambda): the feasible contact wrench closest to `w`, and its ridge forces."""
+        forces = self.ridge_forces(G, w, upper)
+        return G @ forces, forces

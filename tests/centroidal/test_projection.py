@@ -1,0 +1,127 @@
+"""Contact wrench cones (eq. 8) and the projection / distribution QP (eqs. 9, 13) with every
+backend."""
+
+import numpy as np
+import pytest
+from hypothesis import HealthCheck, given, settings
+from hypothesis import strategies as st
+from scipy.spatial.transform import Rotation
+
+from centroidal.contacts import ContactSurface, contact_set, generator_matrix, ridges_in_frame
+from centroidal.projection import BACKEND_NAMES, WrenchProjector
+
+PROJECTORS = {name: WrenchProjector(name) for name in BACKEND_NAMES}
+
+
+@st.composite
+def contact_sets(draw):
+    n = draw(st.integers(1, 3))
+    surfaces, positions, rotations = [], [], []
+    for _ in range(n):
+        half = (draw(st.floats(0.03, 0.15)), draw(st.floats(0.03, 0.1)))
+        surfaces.append(
+            ContactSurface.rectangle(
+                *half, friction=draw(st.floats(0.3, 1.0)), grasp=draw(st.booleans())
+            )
+        )
+        positions.append(np.array([draw(st.floats(-0.8, 0.8)) for _ in range(3)]))
+        tilt = [draw(st.floats(-1.2, 1.2)), draw(st.floats(-1.2, 1.2)), draw(st.floats(-3, 3))]
+        rotations.append(Rotation.from_euler("xyz", tilt).as_matrix())
+    return contact_set([f"c{k}" for k in range(n)], surfaces, positions, rotations)
+
+
+def _wrench(draw_floats, scale=600.0):
+    return np.array([draw_floats() * scale for _ in range(6)])
+
+
+@settings(max_examples=25, deadline=None, suppress_health_check=[HealthCheck.too_slow])
+@given(contacts=contact_sets(), data=st.data(), feasible=st.booleans())
+def test_all_backends_agree(contacts, data, feasible):
+    G = contacts.matrix
+    if feasible:
+        ridge = np.array([data.draw(st.floats(0.0, 100.0)) for _ in range(G.shape[1])])
+        w = G @ ridge
+    else:
+        w = np.array([data.draw(st.floats(-1.0, 1.0)) * 600.0 for _ in range(6)])
+    results = {name: p.project(G, w)[0] for name, p in PROJECTORS.items()}
+    reference = results["daqp"]
+    for name, projected in results.items():
+        np.testing.assert_allclose(projected[:3], reference[:3], atol=1e-4, err_msg=name)
+        np.testing.assert_allclose(projected[3:], reference[3:], atol=1e-4, err_msg=name)
+    if feasible:
+        np.testing.assert_allclose(reference, w, atol=1e-4)
+
+
+@settings(max_examples=40, deadline=None)
+@given(contacts=contact_sets(), data=st.data())
+def test_projection_is_the_nearest_feasible_wrench(contacts, data):
+    G = contacts.matrix
+    w = np.array([data.draw(st.floats(-1.0, 1.0)) * 600.0 for _ in range(6)])
+    projected, forces = WrenchProjector().project(G, w)
+    assert np.all(forces >= 0)
+    np.testing.assert_allclose(projected, G @ forces)  # in the cone by construction
+    distance = np.linalg.norm(projected - w)
+    rng = np.random.default_rng(0)
+    for _ in range(200):  # no other feasible wrench is nearer
+        other = G @ (forces + rng.exponential(5.0, G.shape[1]) * (rng.random(G.shape[1]) < 0.3))
+        assert distance <= np.linalg.norm(other - w) + 1e-6
+
+
+def test_ridges_lie_on_the_friction_cone():
+    mu = 0.6
+    for ridge in ridges_in_frame(mu):
+        assert np.linalg.norm(ridge) == pytest.approx(1.0)
+        assert np.hypot(ridge[0], ridge[1]) / ridge[2] == pytest.approx(mu)
+
+
+def test_single_sole_wrench_cone_facts():
+    """One 0.22 x 0.12 sole at the origin: a vertical force through any point of the sole is
+    feasible; a pull, a force outside the friction cone, or a CoP outside the sole is not."""
+    sole = ContactSurface.rectangle(0.11, 0.06, friction=0.6)
+    G = generator_matrix(sole, np.zeros(3), np.eye(3))
+    projector = WrenchProjector()
+
+    def feasible(w):
+        return np.linalg.norm(projector.project(G, w)[0] - w) < 1e-3
+
+    fz = 500.0
+    assert feasible(np.array([0, 0, fz, 0, 0, 0]))
+    assert feasible(np.array([0, 0, fz, 0.05 * fz, -0.10 * fz, 0]))  # CoP (0.10, 0.05)
+    assert not feasible(np.array([0, 0, fz, 0, -0.12 * fz, 0]))  # CoP x = 0.12 > 0.11
+    assert feasible(np.array([0.55 * fz, 0, fz, 0, 0, 0]))  # inside the pyramid (mu 0.6)
+    assert not feasible(np.array([0.65 * fz, 0, fz, 0, 0, 0]))
+    assert not feasible(np.array([0, 0, -fz, 0, 0, 0]))  # pulling
+    # a grasp can pull
+    grasp = generator_matrix(
+        ContactSurface.rectangle(0.05, 0.04, 0.6, grasp=True), np.zeros(3), np.eye(3)
+    )
+    pull = np.array([0, 0, -fz, 0, 0, 0])
+    assert np.linalg.norm(projector.project(grasp, pull)[0] - pull) < 1e-3
+
+
+def test_contact_set_reads_back_each_limb_wrench():
+    surfaces = [ContactSurface.rectangle(0.11, 0.06, 0.6)] * 2
+    contacts = contact_set(
+        ["left", "right"],
+        surfaces,
+        [np.array([0, 0.1, 0]), np.array([0, -0.1, 0])],
+        [np.eye(3)] * 2,
+    )
+    w = np.array([0, 0, 600.0, 0, 0, 0])
+    _, forces = WrenchProjector().project(contacts.matrix, w)
+    left, right = contacts.wrench_of("left", forces), contacts.wrench_of("right", forces)
+    np.testing.assert_allclose(left + right, w, atol=1e-6)
+    assert left[2] == pytest.approx(300.0, abs=1e-3)  # symmetric: half each
+
+
+def test_upper_bounds_and_errors():
+    G = generator_matrix(ContactSurface.rectangle(0.11, 0.06, 0.6), np.zeros(3), np.eye(3))
+    w = np.array([0, 0, 600.0, 0, 0, 0])
+    upper = np.full(G.shape[1], 10.0)
+    for name in ("daqp", "osqp", "cvxpy", "casadi"):
+        _, forces = WrenchProjector(name).project(G, w, upper)
+        assert forces.max() <= 10.0 + 1e-6
+    with pytest.raises(ValueError, match="no upper bounds"):
+        WrenchProjector("nnls").project(G, w, upper)
+    with pytest.raises(KeyError, match="choose one of: nnls, daqp"):
+        WrenchProjector("gurobi")
