@@ -3,6 +3,13 @@
 - `stand`: double support on flat ground, 10 s.
 - `stand_push`: `stand` with one push to the torso at t = 2 s lasting 0.1 s; impulse [N s]
   (default 20) and horizontal direction [deg] (0 = +x, forward; 90 = +y, left; default 0).
+- `walk`: 10 straight steps on flat ground, right foot first. Stride 0.25 m (each swing foot
+  moves 0.25 m, footprints 0.125 m apart; the first and last steps are half, so the feet start
+  and end side by side); step period 0.9 s with 15 % double support (0.135 s); swing clearance
+  0.05 m; 1.0 s of double support before the first step and 1.5 s after the last. Sized for the
+  0.22 m feet and 0.36 m leg segments of the centrobench humanoid at scale 1 (scaled with it).
+- `walk_push`: `walk` with a lateral push to the torso in the middle of the 5th step's single
+  support; impulse [N s] (default 15) and direction [deg] (default 90: to the left).
 """
 
 from __future__ import annotations
@@ -59,10 +66,88 @@ def stand_push(
     return Scenario("stand_push", duration, base.scene, base.phases, base.initial_posture, (push,))
 
 
+def walk(
+    model: RobotModel,
+    duration: float | None = None,
+    steps: int = 10,
+    stride: float = 0.25,
+    step_period: float = 0.9,
+    double_support_ratio: float = 0.15,
+    swing_height: float = 0.05,
+    start_double_support: float = 1.0,
+    end_double_support: float = 1.5,
+) -> Scenario:
+    scale = model.robot.scale
+    stride, swing_height = stride * scale, swing_height * scale
+    step_period *= np.sqrt(scale)  # Froude similarity, like the joint speed limits
+    start = {c.limb: c for c in _standing_contacts(model)}
+    feet = {name: np.array(contact.position_world) for name, contact in start.items()}
+    double = double_support_ratio * step_period
+    single = step_period - double
+    phases = []
+    t = start_double_support
+    phases.append(ContactPhase(0.0, t, tuple(start.values())))
+    for k in range(1, steps + 1):
+        swing = "right_foot" if k % 2 else "left_foot"
+        support = "left_foot" if swing == "right_foot" else "right_foot"
+        phases.append(ContactPhase(t, t + single, (Contact(support, tuple(feet[support])),)))
+        advance = stride / 2 if k in (1, steps) else stride
+        feet[swing] = feet[swing] + np.array([advance, 0.0, 0.0])
+        t += single
+        end = t + (end_double_support if k == steps else double)
+        both = (
+            Contact("left_foot", tuple(feet["left_foot"])),
+            Contact("right_foot", tuple(feet["right_foot"])),
+        )
+        phases.append(ContactPhase(t, end, both))
+        t = end
+    total = t if duration is None else duration
+    if duration is not None and duration > t:  # stand on at the end
+        phases[-1] = ContactPhase(phases[-1].start, duration, phases[-1].contacts)
+    return Scenario(
+        "walk",
+        total,
+        Scene(),
+        tuple(phases),
+        model.robot.nominal_posture,
+        swing_height=swing_height,
+    )
+
+
+def walk_push(
+    model: RobotModel,
+    duration: float | None = None,
+    push_impulse: float = 15.0,
+    push_direction_deg: float = 90.0,
+    push_step: int = 5,
+    push_duration: float = 0.1,
+) -> Scenario:
+    base = walk(model, duration)
+    single = [p for p in base.phases if len(p.contacts) == 1]
+    phase = single[push_step - 1]
+    mid = (phase.start + phase.end) / 2
+    angle = np.deg2rad(push_direction_deg)
+    impulse = (push_impulse * np.cos(angle), push_impulse * np.sin(angle), 0.0)
+    push = PushEvent(mid - push_duration / 2, model.robot.base_link, impulse, push_duration)
+    return Scenario(
+        "walk_push",
+        base.duration,
+        base.scene,
+        base.phases,
+        base.initial_posture,
+        (push,),
+        base.swing_height,
+    )
+
+
 SCENARIOS: dict[str, ScenarioSpec] = {
     "stand": ScenarioSpec("stand", stand, "double support on flat ground, 10 s"),
     "stand_push": ScenarioSpec(
         "stand_push", stand_push, "standing, one push to the torso at t = 2 s for 0.1 s", True
+    ),
+    "walk": ScenarioSpec("walk", walk, "10 straight steps, stride 0.25 m, 0.9 s per step"),
+    "walk_push": ScenarioSpec(
+        "walk_push", walk_push, "walk with a lateral push mid single support of step 5", True
     ),
 }
 

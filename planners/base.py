@@ -17,7 +17,7 @@ class Planner(Protocol):
     def plan(self, t: float, state: RobotState) -> CentroidalPlan: ...
 
 
-PLANNERS = Registry("planner", modules=("planners.hold",))
+PLANNERS = Registry("planner", modules=("planners.hold", "planners.preview_control"))
 PlannerSpec = ComponentSpec
 register = PLANNERS.register
 planner_spec = PLANNERS.get

@@ -98,6 +98,8 @@ class Scenario:
     phases: tuple[ContactPhase, ...]
     initial_posture: tuple[float, ...]
     pushes: tuple[PushEvent, ...] = ()
+    swing_height: float = 0.05
+    """Clearance [m] of a limb moving between two contacts (peak, at mid-swing)."""
 
     def phase_at(self, time: float) -> ContactPhase:
         """The contact phase holding at `time` [s] (the last one after the end)."""
@@ -105,3 +107,43 @@ class Scenario:
             if phase.start <= time < phase.end:
                 return phase
         return self.phases[-1]
+
+    def limb_pose(self, limb: str, time: float) -> tuple[np.ndarray, np.ndarray] | None:
+        """Target pose of `limb`'s contact frame at `time` [s]: its contact pose while in
+        contact; between two contacts, a swing from the last to the next (horizontal position
+        and yaw along a quintic blend with zero velocity and acceleration at both ends, plus a
+        clearance of `swing_height` * sin(pi s) vertically); None if the limb is never in
+        contact around `time`. Returns (position [m], orientation (w, x, y, z))."""
+        previous = following = None
+        for phase in self.phases:
+            for contact in phase.contacts:
+                if contact.limb != limb:
+                    continue
+                if phase.start <= time < phase.end:
+                    return (
+                        np.array(contact.position_world, dtype=float),
+                        np.array(contact.orientation_world, dtype=float),
+                    )
+                if phase.end <= time:
+                    previous = (phase.end, contact)
+                elif following is None and phase.start > time:
+                    following = (phase.start, contact)
+        if previous is None and following is None:
+            return None
+        if previous is None or following is None:
+            _, contact = previous or following
+            return (
+                np.array(contact.position_world, dtype=float),
+                np.array(contact.orientation_world, dtype=float),
+            )
+        (t0, start), (t1, end) = previous, following
+        s = (time - t0) / (t1 - t0)
+        blend = s**3 * (10 - 15 * s + 6 * s * s)
+        p0, p1 = np.array(start.position_world), np.array(end.position_world)
+        position = p0 + blend * (p1 - p0)
+        position[2] += self.swing_height * np.sin(np.pi * s)
+        q0, q1 = np.array(start.orientation_world), np.array(end.orientation_world)
+        if q0 @ q1 < 0:
+            q1 = -q1
+        orientation = q0 + blend * (q1 - q0)  # normalised lerp: exact for equal orientations
+        return position, orientation / np.linalg.norm(orientation)

@@ -132,7 +132,12 @@ class CentroidalPlan:
     contact_limbs: names of the limbs in contact; limb_target_position_world /
     limb_target_orientation_world: per limb, where it should be (contact pose or swing
     trajectory), (n_limbs, 3) [m] and (n_limbs, 4) (w, x, y, z); timings_ns: sub-stage times
-    of the planner (e.g. "reference", "preview", "projection") in ns."""
+    of the planner (e.g. "reference", "preview", "projection") in ns.
+
+    com_desired_world [m], com_velocity_desired_world [m/s], base_orientation_desired_world,
+    base_angular_velocity_desired_world: the desired state r^d (Murooka eq. 10 and after: the
+    planned state integrated one period with the projected wrench), which a stabilizer tracks;
+    None means "the planned state"."""
 
     com_reference_world: np.ndarray
     com_planned_world: np.ndarray
@@ -147,6 +152,25 @@ class CentroidalPlan:
     limb_target_position_world: np.ndarray
     limb_target_orientation_world: np.ndarray
     timings_ns: dict[str, int]
+    com_desired_world: np.ndarray | None = None
+    com_velocity_desired_world: np.ndarray | None = None
+    base_orientation_desired_world: np.ndarray | None = None
+    base_angular_velocity_desired_world: np.ndarray | None = None
+
+    def desired_state(self) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+        """(c^d, c'^d, base orientation^d, omega^d), falling back to the planned state."""
+        return (
+            self.com_planned_world if self.com_desired_world is None else self.com_desired_world,
+            self.com_velocity_planned_world
+            if self.com_velocity_desired_world is None
+            else self.com_velocity_desired_world,
+            self.base_orientation_planned_world
+            if self.base_orientation_desired_world is None
+            else self.base_orientation_desired_world,
+            self.base_angular_velocity_planned_world
+            if self.base_angular_velocity_desired_world is None
+            else self.base_angular_velocity_desired_world,
+        )
 
 
 @dataclass(frozen=True)

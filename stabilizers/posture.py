@@ -1,8 +1,9 @@
 """Stabilizer `posture`: CoM and base-orientation PD through the whole-body IK, no force
 feedback (the minimal controller of issue 3).
 
-The IK's CoM target is the planned CoM plus a PD correction on the measured CoM,
-    c_target = c_p + K_p (c_p - c_a) + K_d (c_p' - c_a'_f),
+The IK's CoM target is the plan's desired CoM (r^d; the planned one if the planner gives no
+r^d) plus a PD correction on the measured CoM,
+    c_target = c_d + K_p (c_d - c_a) + K_d (c_d' - c_a'_f),
 where c_a'_f is the measured CoM velocity through a first-order low-pass filter (time constant
 `velocity_filter` s); the base orientation target is the planned one turned by K_p,o times
 the measured orientation error (world-axes rotation vector). Limb targets and contacts come
@@ -53,12 +54,13 @@ class PostureStabilizer:
     def stabilize(self, t: float, plan: CentroidalPlan, state: RobotState) -> WholeBodyTargets:
         start = time.perf_counter_ns()
         self.com_velocity += self.alpha * (state.com_velocity_world - self.com_velocity)
+        com, com_velocity, orientation, _ = plan.desired_state()
         com_target = (
-            plan.com_planned_world
-            + self.com_kp * (plan.com_planned_world - state.com_position_world)
-            + self.com_kd * (plan.com_velocity_planned_world - self.com_velocity)
+            com
+            + self.com_kp * (com - state.com_position_world)
+            + self.com_kd * (com_velocity - self.com_velocity)
         )
-        planned = to_matrix(plan.base_orientation_planned_world)
+        planned = to_matrix(orientation)
         error = rotation_error(planned, to_matrix(state.base_orientation_world))
         base_target = from_matrix(rotate_by_vector(self.orientation_kp * error, planned))
         in_contact = np.array([name in plan.contact_limbs for name in self.limb_names])

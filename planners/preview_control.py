@@ -1,0 +1,227 @@
+"""Planner `preview_control`: 6-DoF centroidal preview control with wrench projection
+(Murooka, Morisawa, Kanehiro, RA-L 2022, Sec. III; eqs. 1-10, Table I).
+
+Each control period (dt = 2 ms here; the preview model is sampled at dtau = 5 ms, Table I):
+
+1. reference (Sec. V-B, V-C; `planners.reference`): CoM at the support centre, piecewise
+   constant, height a constant offset above the mean support height; base orientation zero;
+   reference resultant force and moment zero. Precomputed at reset for the whole scenario.
+2. preview (eqs. 3-5, 7): per axis, the optimal jerk from the cached gains
+   (`centroidal.preview`); linear outputs [c, m c''], angular outputs [alpha, I_* alpha''] with I
+   the constant diagonal approximation of I_base (eq. 6; `RobotModel.constant_inertia`). The
+   planned state r^p is the state integrated over dt with that jerk, and the planned resultant
+   wrench w-bar^p = [m c''^p; I alpha''^p].
+3. projection (eqs. 9-10): w^p = w-bar^p + [m g; c^p x f^p] projected onto the cone of the
+   current contacts; w-bar^p' = G lambda - [m g; c^p x f^p].
+4. desired state (after eq. 10): eq. 1 integrated over dt from the current state with the
+   projected wrench gives r^d, and the preview continues from r^d at the next period (r^d is
+   "the desired centroidal state of the next control loop", Fig. 1) -- so a projection that
+   changes the wrench also changes what the preview plans next.
+
+Adaptations (our robot and framework, not the paper's): the contact polygons are the limb's
+rectangle shrunk by a 10 mm margin (the paper uses "contact polygon vertices with inner
+margins", Fig. 3, without a number); the friction coefficient is the scene's; the angle alpha
+is the rotation vector of the base orientation (equal to the paper's Euler angles to first
+order; the paper also neglects K_Euler, Sec. III-A4); the preview's 1 % steady-state offset is
+removed by the tail correction of `centroidal.preview` (tail_correction=False restores the
+paper's plain gains).
+"""
+
+from __future__ import annotations
+
+import time
+
+import numpy as np
+
+from centroidal.contacts import ContactSurface, contact_set
+from centroidal.preview import TripleIntegratorPreview, preview_gains
+from centroidal.projection import DEFAULT_BACKEND, WrenchProjector
+from centroidal.rotations import exp, from_matrix, log, to_matrix
+from centroidal.wrench import cross, zmp_on_plane
+from planners.base import PlannerSpec, register
+from planners.reference import com_reference, support_centre
+from robots.model import RobotModel
+from robots.scene import Scenario
+from robots.types import CentroidalPlan, RobotState
+
+GRAVITY = np.array([0.0, 0.0, 9.81])
+
+# Table I (Murooka et al. 2022): weights of eq. 4 and the preview discretisation.
+TABLE_I = {
+    "q_linear": (2e2, 5e-4),
+    "r_linear": 1e-8,
+    "q_angular": (1e2, 5e-3),
+    "r_angular": 1e-8,
+    "dtau": 0.005,
+    "horizon": 400,
+}
+CONTACT_MARGIN = 0.01  # [m], inner margin of the contact polygons
+
+
+class PreviewControlPlanner:
+    name = "preview_control"
+
+    def __init__(
+        self,
+        dt: float,
+        projection_backend: str = DEFAULT_BACKEND,
+        tail_correction: bool = True,
+        horizon: int | None = None,
+    ) -> None:
+        self.dt = dt
+        self.projector = WrenchProjector(projection_backend)
+        self.tail_correction = tail_correction
+        self.horizon = horizon or TABLE_I["horizon"]
+        self.dtau = TABLE_I["dtau"]
+
+    def reset(self, robot: RobotModel, scenario: Scenario, state: RobotState) -> None:
+        self.robot_model, self.scenario = robot, scenario
+        description = robot.robot
+        self.mass = description.total_mass
+        self.inertia = np.diag(robot.constant_inertia())
+        linear = preview_gains(
+            self.mass,
+            *TABLE_I["q_linear"],
+            TABLE_I["r_linear"],
+            self.dtau,
+            self.horizon,
+            self.tail_correction,
+        )
+        self.linear = TripleIntegratorPreview(linear, self.dt, 3)
+        self.angular = [
+            TripleIntegratorPreview(
+                preview_gains(
+                    float(i),
+                    *TABLE_I["q_angular"],
+                    TABLE_I["r_angular"],
+                    self.dtau,
+                    self.horizon,
+                    self.tail_correction,
+                ),
+                self.dt,
+                1,
+            )
+            for i in self.inertia
+        ]
+        com = np.asarray(state.com_position_world, dtype=float)
+        self.linear.state[:, 0] = com
+        self.linear.state[:, 1] = state.com_velocity_world
+        alpha = log(to_matrix(state.base_orientation_world))
+        for axis, preview in enumerate(self.angular):
+            preview.state[0] = [alpha[axis], 0.0, 0.0]
+        _, support_height = support_centre(scenario, 0.0)
+        n_samples = int(np.ceil(scenario.duration / self.dtau)) + self.horizon + 2
+        self.reference = com_reference(scenario, self.dtau, n_samples, com[2] - support_height)
+        self.window = np.zeros((self.horizon, 3, 2))  # [c_ref, f_ref = 0] per axis
+        self.zero_window = np.zeros((self.horizon, 1, 2))
+        friction = scenario.scene.friction
+        self.limbs = description.limbs
+        self.surfaces = {
+            limb.name: ContactSurface.rectangle(
+                *limb.half_extents, friction, margin=CONTACT_MARGIN * description.scale
+            )
+            for limb in self.limbs
+        }
+        self.start_pose = {}
+        for limb in self.limbs:
+            position, rotation = robot.frame_pose(state, limb.contact_frame)
+            self.start_pose[limb.name] = (position, from_matrix(rotation))
+        self._contact_cache: tuple | None = None
+
+    def _contacts(self, t: float):
+        """The contact set of the phase at t (cached while the phase lasts)."""
+        phase = self.scenario.phase_at(t)
+        if self._contact_cache is None or self._contact_cache[0] is not phase:
+            contacts = contact_set(
+                [c.limb for c in phase.contacts],
+                [self.surfaces[c.limb] for c in phase.contacts],
+                [np.asarray(c.position_world, dtype=float) for c in phase.contacts],
+                [to_matrix(c.orientation_world) for c in phase.contacts],
+            )
+            height = float(np.mean([c.position_world[2] for c in phase.contacts]))
+            self._contact_cache = (phase, contacts, height)
+        return self._contact_cache
+
+    def plan(self, t: float, state: RobotState) -> CentroidalPlan:
+        start = time.perf_counter_ns()
+        index = int(t / self.dtau + 1e-9)
+        self.window[:, :, 0] = self.reference[index + 1 : index + 1 + self.horizon]
+        reference_now = self.reference[index]
+        after_reference = time.perf_counter_ns()
+
+        linear_now = self.linear.state.copy()
+        self.linear.advance(self.linear.jerk(self.window))
+        angular_now = np.array([p.state[0].copy() for p in self.angular])
+        for preview in self.angular:
+            preview.advance(preview.jerk(self.zero_window))
+        planned = self.linear.state.copy()
+        planned_angular = np.array([p.state[0] for p in self.angular])
+        wrench_planned = np.concatenate(
+            [self.mass * planned[:, 2], self.inertia * planned_angular[:, 2]]
+        )
+        after_preview = time.perf_counter_ns()
+
+        phase, contacts, height = self._contacts(t)
+        com_planned = planned[:, 0]
+        force_planned = wrench_planned[:3] + self.mass * GRAVITY
+        offset = np.concatenate([self.mass * GRAVITY, cross(com_planned, force_planned)])
+        projected_contact, _ = self.projector.project(contacts.matrix, wrench_planned + offset)
+        wrench_projected = projected_contact - offset  # eq. 10
+
+        # r^d: eq. 1 over one period from the current state with the projected wrench.
+        dt = self.dt
+        acceleration = wrench_projected[:3] / self.mass
+        com_desired = linear_now[:, 0] + linear_now[:, 1] * dt + 0.5 * acceleration * dt * dt
+        velocity_desired = linear_now[:, 1] + acceleration * dt
+        self.linear.state = np.column_stack([com_desired, velocity_desired, acceleration])
+        angular_acceleration = wrench_projected[3:] / self.inertia
+        alpha_desired = (
+            angular_now[:, 0] + angular_now[:, 1] * dt + 0.5 * angular_acceleration * dt**2
+        )
+        omega_desired = angular_now[:, 1] + angular_acceleration * dt
+        for axis, preview in enumerate(self.angular):
+            preview.state[0] = [
+                alpha_desired[axis],
+                omega_desired[axis],
+                angular_acceleration[axis],
+            ]
+        zmp = zmp_on_plane(projected_contact, height)
+        after_projection = time.perf_counter_ns()
+
+        positions = np.empty((len(self.limbs), 3))
+        orientations = np.empty((len(self.limbs), 4))
+        for k, limb in enumerate(self.limbs):
+            pose = self.scenario.limb_pose(limb.name, t)
+            positions[k], orientations[k] = pose if pose is not None else self.start_pose[limb.name]
+        return CentroidalPlan(
+            com_reference_world=reference_now,
+            com_planned_world=com_planned,
+            com_velocity_planned_world=planned[:, 1],
+            com_acceleration_planned_world=planned[:, 2],
+            base_orientation_planned_world=from_matrix(exp(planned_angular[:, 0])),
+            base_angular_velocity_planned_world=planned_angular[:, 1],
+            wrench_planned_world=wrench_planned,
+            wrench_projected_world=wrench_projected,
+            zmp_planned_world=zmp,
+            contact_limbs=phase.limbs,
+            limb_target_position_world=positions,
+            limb_target_orientation_world=orientations,
+            timings_ns={
+                "reference": after_reference - start,
+                "preview": after_preview - after_reference,
+                "projection": after_projection - after_preview,
+            },
+            com_desired_world=com_desired,
+            com_velocity_desired_world=velocity_desired,
+            base_orientation_desired_world=from_matrix(exp(alpha_desired)),
+            base_angular_velocity_desired_world=omega_desired,
+        )
+
+
+register(
+    PlannerSpec(
+        "preview_control",
+        PreviewControlPlanner,
+        "Murooka et al. 2022: 6-DoF centroidal preview control + projection",
+    )
+)

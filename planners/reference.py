@@ -1,0 +1,38 @@
+"""Reference trajectories from a scenario's contact sequence (Murooka et al. 2022, Sec. V-B,
+V-C): piecewise constant and synchronised with the contact switches.
+
+- Horizontal CoM: the centre of the supporting feet (the supporting foot in single support,
+  the middle of both in double support); the centre of all contacts when no foot is in contact.
+- Vertical CoM: the mean height of the supporting feet plus a constant offset (the initial CoM
+  height above the soles).
+- Base orientation: zero (level, yaw 0). Reference resultant force and moment: zero.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from robots.scene import Scenario
+
+
+def support_centre(scenario: Scenario, time: float) -> tuple[np.ndarray, float]:
+    """Horizontal support centre (2,) [m] and mean support height [m] at `time`."""
+    contacts = scenario.phase_at(time).contacts
+    feet = [c.position_world for c in contacts if c.limb.endswith("foot")] or [
+        c.position_world for c in contacts
+    ]
+    points = np.asarray(feet, dtype=float)
+    return points[:, :2].mean(axis=0), float(points[:, 2].mean())
+
+
+def com_reference(
+    scenario: Scenario, dtau: float, n_samples: int, height_offset: float
+) -> np.ndarray:
+    """CoM reference (n_samples, 3) [m] at times 0, dtau, 2 dtau, ... (the last phase holds
+    beyond the scenario's end)."""
+    reference = np.empty((n_samples, 3))
+    for i in range(n_samples):
+        centre, height = support_centre(scenario, i * dtau)
+        reference[i, :2] = centre
+        reference[i, 2] = height + height_offset
+    return reference
