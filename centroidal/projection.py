@@ -8,7 +8,8 @@ scale it is negligible: 1e-8 N of force per unit ridge force) makes the problem 
 so every backend has the same unique answer; `upper` optionally bounds each ridge force.
 
 Backends, chosen by name (`BACKEND_NAMES`): scipy `nnls`; daqp, quadprog, proxqp, osqp,
-clarabel through qpsolvers (osqp and clarabel in the lifted form of `_qpsolvers_lifted`);
+clarabel through qpsolvers (proxqp, osqp and clarabel in the lifted form of
+`_qpsolvers_lifted`);
 `cvxpy` (one Parameter-based problem per ridge count, built once, OSQP underneath); `casadi` (a
 `conic` QP per ridge count, built once, qpOASES). The default is `DEFAULT_BACKEND`, the
 fastest accurate one in `make benchmark` (tests/benchmarks/test_projection.py); see README.
@@ -48,7 +49,7 @@ def _nnls(G, w, eps, upper):
 
 # Per-solver settings so that every backend reaches the same answer to ~1e-9 relative.
 _QP_SETTINGS = {
-    "osqp": {"eps_abs": 1e-11, "eps_rel": 1e-11, "polish": True, "max_iter": 100000},
+    "osqp": {"eps_abs": 1e-9, "eps_rel": 1e-9, "polish": True, "max_iter": 400000},
     "clarabel": {"tol_gap_abs": 1e-10, "tol_gap_rel": 1e-10, "tol_feas": 1e-10},
     "proxqp": {"eps_abs": 1e-11, "eps_rel": 0.0},
 }
@@ -171,7 +172,7 @@ def _backends() -> dict[str, Backend]:
         "nnls": _nnls,
         "daqp": _qpsolvers("daqp"),
         "quadprog": _qpsolvers("quadprog"),
-        "proxqp": _qpsolvers("proxqp"),
+        "proxqp": _qpsolvers_lifted("proxqp"),
         "osqp": _qpsolvers_lifted("osqp"),
         "clarabel": _qpsolvers_lifted("clarabel"),
         "cvxpy": _Cvxpy(),

@@ -195,3 +195,8 @@ class WholeBodyTargets:
     contact_wrench_desired_limb: np.ndarray | None = None
     joint_torque: np.ndarray | None = None
     timings_ns: dict[str, int] | None = None
+    wrench_desired_world: np.ndarray | None = None
+    """w-bar^d (Murooka eq. 12): desired resultant force [N] and moment about the CoM [N m]."""
+    wrench_distributed_world: np.ndarray | None = None
+    """w-bar^d' : the resultant of the distributed contact wrenches minus [m g; c^a x f^d]; its
+    difference from w-bar^d is the desired projection error (Sec. V-G)."""

@@ -17,7 +17,9 @@ class Stabilizer(Protocol):
     def stabilize(self, t: float, plan: CentroidalPlan, state: RobotState) -> WholeBodyTargets: ...
 
 
-STABILIZERS = Registry("stabilizer", modules=("stabilizers.posture",))
+STABILIZERS = Registry(
+    "stabilizer", modules=("stabilizers.posture", "stabilizers.centroidal_feedback")
+)
 StabilizerSpec = ComponentSpec
 register = STABILIZERS.register
 stabilizer_spec = STABILIZERS.get
