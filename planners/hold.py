@@ -5,7 +5,7 @@ the scenario's first phase) at the initial CoM height; the base orientation refe
 with zero yaw; the planned state equals the reference with zero velocity and acceleration; the
 planned resultant wrench is the weight, [0, 0, m g] with zero moment about the CoM, and needs no
 projection; the planned ZMP is the support centre. Limb targets: contact limbs at their contact
-poses, free limbs where they were at the start.
+poses; free limbs untracked (the whole-body posture task holds them).
 """
 
 from __future__ import annotations
@@ -50,10 +50,12 @@ class HoldPlanner:
         phase = self.scenario.phase_at(t)
         position = self.start_position.copy()
         orientation = self.start_orientation.copy()
+        tracked = np.zeros(len(position), dtype=bool)
         for contact in phase.contacts:
             k = self.limb_index[contact.limb]
             position[k] = contact.position_world
             orientation[k] = contact.orientation_world
+            tracked[k] = True
         zero = np.zeros(3)
         return CentroidalPlan(
             com_reference_world=self.com,
@@ -69,6 +71,7 @@ class HoldPlanner:
             limb_target_position_world=position,
             limb_target_orientation_world=orientation,
             timings_ns={"reference": time.perf_counter_ns() - start},
+            limb_tracked=tracked,
         )
 
 

@@ -67,12 +67,14 @@ class PreviewControlPlanner:
         projection_backend: str = DEFAULT_BACKEND,
         tail_correction: bool = True,
         horizon: int | None = None,
+        continue_from_desired: bool = True,
     ) -> None:
         self.dt = dt
         self.projector = WrenchProjector(projection_backend)
         self.tail_correction = tail_correction
         self.horizon = horizon or TABLE_I["horizon"]
         self.dtau = TABLE_I["dtau"]
+        self.continue_from_desired = continue_from_desired
 
     def reset(self, robot: RobotModel, scenario: Scenario, state: RobotState) -> None:
         self.robot_model, self.scenario = robot, scenario
@@ -173,25 +175,29 @@ class PreviewControlPlanner:
         acceleration = wrench_projected[:3] / self.mass
         com_desired = linear_now[:, 0] + linear_now[:, 1] * dt + 0.5 * acceleration * dt * dt
         velocity_desired = linear_now[:, 1] + acceleration * dt
-        self.linear.state = np.column_stack([com_desired, velocity_desired, acceleration])
+        if self.continue_from_desired:
+            self.linear.state = np.column_stack([com_desired, velocity_desired, acceleration])
         angular_acceleration = wrench_projected[3:] / self.inertia
         alpha_desired = (
             angular_now[:, 0] + angular_now[:, 1] * dt + 0.5 * angular_acceleration * dt**2
         )
         omega_desired = angular_now[:, 1] + angular_acceleration * dt
-        for axis, preview in enumerate(self.angular):
-            preview.state[0] = [
-                alpha_desired[axis],
-                omega_desired[axis],
-                angular_acceleration[axis],
-            ]
+        if self.continue_from_desired:
+            for axis, preview in enumerate(self.angular):
+                preview.state[0] = [
+                    alpha_desired[axis],
+                    omega_desired[axis],
+                    angular_acceleration[axis],
+                ]
         zmp = zmp_on_plane(projected_contact, height)
         after_projection = time.perf_counter_ns()
 
         positions = np.empty((len(self.limbs), 3))
         orientations = np.empty((len(self.limbs), 4))
+        tracked = np.zeros(len(self.limbs), dtype=bool)
         for k, limb in enumerate(self.limbs):
             pose = self.scenario.limb_pose(limb.name, t)
+            tracked[k] = pose is not None
             positions[k], orientations[k] = pose if pose is not None else self.start_pose[limb.name]
         return CentroidalPlan(
             com_reference_world=reference_now,
@@ -215,6 +221,7 @@ class PreviewControlPlanner:
             com_velocity_desired_world=velocity_desired,
             base_orientation_desired_world=from_matrix(exp(alpha_desired)),
             base_angular_velocity_desired_world=omega_desired,
+            limb_tracked=tracked,
         )
 
 

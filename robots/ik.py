@@ -7,11 +7,12 @@ position servos) and finds the step dv (pinocchio tangent space, nv = 6 + n_join
     sum_i w_i || J_i dv - gain e_i ||^2 + damping ||dv||^2
 
 over the tasks i: each limb end's 6-D pose (contact limbs held with `contact` weight, free
-limbs tracked with `limb` weight), the CoM position, the base orientation, a low-weight posture
-task toward the nominal joint angles (Murooka V-A1) and an optional centroidal angular
-momentum task I_all dv = 0 (Murooka V-F), subject to the joint position limits and the joint
-velocity limits over one period. The QP is solved through qpsolvers (default daqp: the fastest
-on this dense 26-variable problem, see `make benchmark`).
+limbs with a target tracked with `limb` weight, limbs without one left to the posture task),
+the CoM position, the base orientation, a low-weight posture task toward the nominal joint
+angles (Murooka V-A1) and an optional centroidal angular momentum task I_all dv = 0 (Murooka
+V-F), subject to the joint position limits and the joint velocity limits over one period. The
+QP is solved through qpsolvers (default daqp: the fastest on this dense 26-variable problem,
+see `make benchmark`).
 
 Orientation errors are log(R_target R^T) in world axes, matching the LOCAL_WORLD_ALIGNED
 Jacobians.
@@ -110,7 +111,10 @@ class WholeBodyIK:
             errors.append(error)
             weights.append(np.full(len(error), weight))
 
+        tracked = targets.limb_tracked
         for k, frame in enumerate(self.limb_frames):
+            if tracked is not None and not tracked[k]:
+                continue  # left to the posture task
             placement = data.oMf[frame]
             jacobian = pin.getFrameJacobian(model, data, frame, pin.LOCAL_WORLD_ALIGNED)
             target_rotation = _quaternion_matrix(targets.limb_orientation_world[k])

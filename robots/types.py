@@ -156,6 +156,9 @@ class CentroidalPlan:
     com_velocity_desired_world: np.ndarray | None = None
     base_orientation_desired_world: np.ndarray | None = None
     base_angular_velocity_desired_world: np.ndarray | None = None
+    limb_tracked: np.ndarray | None = None
+    """(n_limbs,) bool: limbs with a pose target (in contact, or moving between contacts). An
+    untracked limb's target is ignored and the whole-body posture task holds it; None: all."""
 
     def desired_state(self) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
         """(c^d, c'^d, base orientation^d, omega^d), falling back to the planned state."""
@@ -197,6 +200,8 @@ class WholeBodyTargets:
     timings_ns: dict[str, int] | None = None
     wrench_desired_world: np.ndarray | None = None
     """w-bar^d (Murooka eq. 12): desired resultant force [N] and moment about the CoM [N m]."""
+    limb_tracked: np.ndarray | None = None
+    """(n_limbs,) bool, as in `CentroidalPlan.limb_tracked`; None: all limbs tracked."""
     wrench_distributed_world: np.ndarray | None = None
     """w-bar^d' : the resultant of the distributed contact wrenches minus [m g; c^a x f^d]; its
     difference from w-bar^d is the desired projection error (Sec. V-G)."""

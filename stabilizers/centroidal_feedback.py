@@ -197,6 +197,7 @@ class CentroidalFeedbackStabilizer:
                 "damping": end - after_distribution,
             },
             wrench_desired_world=wrench_desired,
+            limb_tracked=plan.limb_tracked,
             wrench_distributed_world=distributed - offset,
         )
 

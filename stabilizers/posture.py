@@ -73,6 +73,7 @@ class PostureStabilizer:
             com_desired_world=com_target,
             zmp_desired_world=plan.zmp_planned_world,
             timings_ns={"feedback": time.perf_counter_ns() - start},
+            limb_tracked=plan.limb_tracked,
         )
 
 
