@@ -18,6 +18,8 @@ import pandas as pd
 
 from bench.provenance import provenance
 from bench.scenarios import make_scenario
+from centroidal.rotations import to_matrix
+from centroidal.support import margin_inside, support_halfplanes, surface_vertices_world
 from planners.base import planner_spec
 from robots.estimators import make_estimator
 from robots.humanoid import humanoid
@@ -29,6 +31,7 @@ from stabilizers.base import stabilizer_spec
 
 STAGES = ("estimator", "planner", "stabilizer", "whole_body", "sim")
 CONTROL_STAGES = STAGES[:-1]
+CENTROIDAL_STAGES = ("reference", "preview", "projection", "distribution")  # Table IV rows
 AXES = ("fx", "fy", "fz", "mx", "my", "mz")
 
 
@@ -149,6 +152,8 @@ def run_episode(spec: EpisodeSpec) -> EpisodeResult:
         "real_time_factor": None,
         "latency_us": {},
         "com_error_rms_m": None,
+        "projection_error": None,
+        "zmp_margin_min_m": None,
         "error": None,
     }
     trace = _Trace(0, ())
@@ -175,6 +180,7 @@ def run_episode(spec: EpisodeSpec) -> EpisodeResult:
     n_periods = round(scenario.duration / dt)
     trace = _Trace(n_periods, robot.limb_names)
     pending = sorted(scenario.pushes, key=lambda p: p.time)
+    support = _SupportPolygon(robot)
     stage = "setup"
     wall_start = time.perf_counter()
     try:
@@ -217,6 +223,7 @@ def run_episode(spec: EpisodeSpec) -> EpisodeResult:
             timings["sim"] = time.perf_counter_ns() - start
 
             _record(trace, t, state, plan, targets, timings)
+            trace.put("zmp_margin_m", support.margin(plan))
             trace.n += 1
             reason = sim.fall_reason()
             if reason is not None:
@@ -245,8 +252,61 @@ def run_episode(spec: EpisodeSpec) -> EpisodeResult:
             - frame[["com_planned_x", "com_planned_y", "com_planned_z"]].to_numpy()
         )
         summary["com_error_rms_m"] = float(np.sqrt(np.mean(np.sum(error**2, axis=1))))
+    if len(frame):
+        summary["projection_error"] = _projection_error(frame)
+        summary["zmp_margin_min_m"] = float(frame["zmp_margin_m"].min())
     summary.update(provenance())
     return EpisodeResult(summary, frame)
+
+
+class _SupportPolygon:
+    """The support polygon of the plan's contacts (limb rectangles at their target poses),
+    rebuilt only when the contacts change."""
+
+    def __init__(self, robot) -> None:
+        self.limbs = robot.limbs
+        self.key = None
+        self.halfplanes = None
+
+    def margin(self, plan: CentroidalPlan) -> float:
+        names = plan.contact_limbs
+        index = [k for k, limb in enumerate(self.limbs) if limb.name in names]
+        key = (names, plan.limb_target_position_world[index].round(6).tobytes())
+        if key != self.key:
+            points = [
+                surface_vertices_world(
+                    self.limbs[k].half_extents,
+                    plan.limb_target_position_world[k],
+                    to_matrix(plan.limb_target_orientation_world[k]),
+                )
+                for k in index
+            ]
+            self.halfplanes = support_halfplanes(np.vstack(points)[:, :2]) if points else None
+            self.key = key
+        if self.halfplanes is None or not np.all(np.isfinite(plan.zmp_planned_world)):
+            return float("nan")
+        return margin_inside(self.halfplanes, plan.zmp_planned_world[:2])
+
+
+def _projection_error(frame: pd.DataFrame) -> dict[str, float | None]:
+    """Murooka Sec. V-G: means of ||f-bar^p - f-bar^p'||, ||n-bar^p - n-bar^p'|| (planned) and
+    of the same for the desired wrench (None when the stabilizer distributes no wrench)."""
+
+    def mean_norm(a: str, b: str, axes) -> float | None:
+        columns_a = [f"{a}_{x}" for x in axes]
+        columns_b = [f"{b}_{x}" for x in axes]
+        if not set(columns_a + columns_b) <= set(frame.columns):
+            return None
+        difference = frame[columns_a].to_numpy() - frame[columns_b].to_numpy()
+        return float(np.nanmean(np.linalg.norm(difference, axis=1)))
+
+    force, moment = AXES[:3], AXES[3:]
+    return {
+        "planned_force_N": mean_norm("wrench_planned", "wrench_projected", force),
+        "planned_moment_Nm": mean_norm("wrench_planned", "wrench_projected", moment),
+        "desired_force_N": mean_norm("wrench_desired", "wrench_distributed", force),
+        "desired_moment_Nm": mean_norm("wrench_desired", "wrench_distributed", moment),
+    }
 
 
 def _record(
@@ -272,15 +332,24 @@ def _record(
         vector(f"wrench_measured_{limb}", state.contact_wrench_limb[k], AXES)
         if targets.contact_wrench_desired_limb is not None:
             vector(f"wrench_desired_{limb}", targets.contact_wrench_desired_limb[k], AXES)
+    vector("wrench_planned", plan.wrench_planned_world, AXES)
+    vector("wrench_projected", plan.wrench_projected_world, AXES)
+    if targets.wrench_desired_world is not None:
+        vector("wrench_desired", targets.wrench_desired_world, AXES)
+        vector("wrench_distributed", targets.wrench_distributed_world, AXES)
     control = 0
     for name, ns in timings.items():
         put(f"t_{name}_us", ns / 1e3)
         if name in CONTROL_STAGES:
             control += ns
     put("t_control_total_us", control / 1e3)
+    centroidal = 0
     for source in (plan.timings_ns, targets.timings_ns or {}):
         for name, ns in source.items():
             put(f"t_{name}_us", ns / 1e3)
+            if name in CENTROIDAL_STAGES:
+                centroidal += ns
+    put("t_centroidal_total_us", centroidal / 1e3)
 
 
 def summary_json_ready(summary: dict) -> dict:

@@ -1,0 +1,80 @@
+"""preview_control (+ centroidal_feedback) on the walk: it walks 10 steps in both simulators,
+the planned ZMP stays in the support polygon (Murooka Fig. 3B), the summary carries the Table IV
+latency rows and the Sec. V-G projection errors; and the reference follows the paper's rules."""
+
+import numpy as np
+import pytest
+
+from bench.runner import EpisodeSpec, run_episode
+from bench.scenarios import make_scenario
+from planners.reference import com_reference, support_centre
+from robots.humanoid import humanoid
+from robots.model import RobotModel
+
+SIMS = ["mujoco", "pybullet"]
+
+
+@pytest.fixture(scope="module")
+def walks():
+    return {
+        sim: run_episode(EpisodeSpec("preview_control", "centroidal_feedback", sim, "walk"))
+        for sim in SIMS
+    }
+
+
+@pytest.mark.parametrize("sim", SIMS)
+def test_walks_ten_steps_without_falling(walks, sim):
+    result = walks[sim]
+    summary = result.summary
+    assert summary["status"] == "ok", summary["error"] or summary["fall_reason"]
+    assert summary["fell"] is False
+    scenario = make_scenario("walk", RobotModel(humanoid()))
+    assert summary["duration"] == pytest.approx(scenario.duration, abs=0.003)
+    # every planned footstep was taken: the robot ends where the plan ends
+    final = result.trace.iloc[-1]
+    last = scenario.phases[-1].contacts
+    end_x = np.mean([c.position_world[0] for c in last])
+    assert end_x == pytest.approx(1.125)
+    assert final["com_actual_x"] == pytest.approx(end_x, abs=0.05)
+    assert abs(final["com_actual_y"]) < 0.05
+
+
+@pytest.mark.parametrize("sim", SIMS)
+def test_planned_zmp_stays_in_the_support_polygon(walks, sim):
+    assert walks[sim].summary["zmp_margin_min_m"] > 0.0
+    assert (walks[sim].trace["zmp_margin_m"] > 0.0).all()
+
+
+@pytest.mark.parametrize("sim", SIMS)
+def test_summary_has_table_iv_rows_and_projection_errors(walks, sim):
+    summary = walks[sim].summary
+    for row in ("reference", "preview", "projection", "distribution", "centroidal_total"):
+        assert row in summary["latency_us"]
+    errors = summary["projection_error"]
+    assert set(errors) == {
+        "planned_force_N",
+        "planned_moment_Nm",
+        "desired_force_N",
+        "desired_moment_Nm",
+    }
+    for value in errors.values():
+        assert 0.0 <= value < 50.0  # N or N m; Murooka reports single digits
+    trace = walks[sim].trace
+    # centroidal_total is the per-period sum of the four Table IV rows
+    parts = trace[[f"t_{r}_us" for r in ("reference", "preview", "projection", "distribution")]]
+    np.testing.assert_allclose(trace["t_centroidal_total_us"], parts.sum(axis=1), rtol=1e-9)
+
+
+def test_reference_follows_the_contact_sequence():
+    """Sec. V-B: horizontal CoM at the supporting foot in single support, the middle of both in
+    double support; height a constant offset above the mean support height."""
+    model = RobotModel(humanoid())
+    scenario = make_scenario("walk", model)
+    reference = com_reference(scenario, 0.005, 2000, height_offset=0.8)
+    for phase in scenario.phases[:6]:
+        t = (phase.start + phase.end) / 2
+        feet = np.array([c.position_world for c in phase.contacts])
+        np.testing.assert_allclose(reference[int(t / 0.005), :2], feet[:, :2].mean(axis=0))
+        assert reference[int(t / 0.005), 2] == pytest.approx(feet[:, 2].mean() + 0.8)
+        centre, _ = support_centre(scenario, t)
+        np.testing.assert_allclose(centre, feet[:, :2].mean(axis=0))
