@@ -42,7 +42,7 @@ def discrete_triple_integrator(dt: float) -> tuple[np.ndarray, np.ndarray]:
 
 @dataclass(frozen=True)
 class PreviewGains:
-    """K_fb (3,), K_ff (Nh, 2) for outputs y = [p, scale * p''], and the model they came from."""
+    """K_fb (3,), K_ff (Nh, n_outputs), and the model they came from."""
 
     feedback: np.ndarray
     feedforward: np.ndarray
@@ -66,15 +66,32 @@ def preview_gains(
     part, I_* for the angular part), weights Q = diag(q_position, q_second), R = r_jerk,
     sample period dtau [s] and Nh = horizon samples. Cached per argument set (the gains depend
     only on mass / inertia, Sec. III-A3)."""
+    output = ((1.0, 0.0, 0.0), (0.0, 0.0, output_scale))
+    return output_preview_gains(
+        output, (q_position, q_second), r_jerk, dtau, horizon, tail_correction
+    )
+
+
+@functools.lru_cache(maxsize=64)
+def output_preview_gains(
+    output: tuple[tuple[float, float, float], ...],
+    q_diagonal: tuple[float, ...],
+    r_jerk: float,
+    dtau: float,
+    horizon: int,
+    tail_correction: bool = True,
+) -> PreviewGains:
+    """Preview gains for any output y = C x of the triple integrator (C given row by row, e.g.
+    Kajita's ZMP ((1, 0, -h/g),)), weights Q = diag(q_diagonal), R = r_jerk."""
     a, b = discrete_triple_integrator(dtau)
-    c = np.array([[1.0, 0.0, 0.0], [0.0, 0.0, output_scale]])
-    q = np.diag([q_position, q_second])
+    c = np.array(output, dtype=float)
+    q = np.diag(q_diagonal)
     b_col = b[:, None]
     riccati = scipy.linalg.solve_discrete_are(a, b_col, c.T @ q @ c, np.array([[r_jerk]]))
     gain_den = float(r_jerk + b @ riccati @ b)
     feedback = (b @ riccati @ a) / gain_den
     closed = a - np.outer(b, feedback)
-    feedforward = np.zeros((horizon, 2))
+    feedforward = np.zeros((horizon, len(c)))
     power = c.T @ q  # (A_c')^(i-1) C'Q, i = 1
     for i in range(horizon):
         feedforward[i] = (b @ power) / gain_den
@@ -95,7 +112,8 @@ class TripleIntegratorPreview:
         self.state = np.zeros((n_axes, 3))
 
     def jerk(self, reference_window: np.ndarray) -> np.ndarray:
-        """Optimal jerk per axis (eq. 5) for references (Nh, axes, 2) at samples k+1..k+Nh."""
+        """Optimal jerk per axis (eq. 5) for references (Nh, axes, n_outputs) at samples
+        k+1..k+Nh."""
         return -self.state @ self.gains.feedback + np.einsum(
             "ho,hao->a", self.gains.feedforward, reference_window
         )

@@ -17,7 +17,9 @@ class Planner(Protocol):
     def plan(self, t: float, state: RobotState) -> CentroidalPlan: ...
 
 
-PLANNERS = Registry("planner", modules=("planners.hold", "planners.preview_control"))
+PLANNERS = Registry(
+    "planner", modules=("planners.hold", "planners.preview_control", "planners.preview_zmp")
+)
 PlannerSpec = ComponentSpec
 register = PLANNERS.register
 planner_spec = PLANNERS.get

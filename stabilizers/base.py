@@ -18,7 +18,8 @@ class Stabilizer(Protocol):
 
 
 STABILIZERS = Registry(
-    "stabilizer", modules=("stabilizers.posture", "stabilizers.centroidal_feedback")
+    "stabilizer",
+    modules=("stabilizers.posture", "stabilizers.centroidal_feedback", "stabilizers.dcm"),
 )
 StabilizerSpec = ComponentSpec
 register = STABILIZERS.register

@@ -106,20 +106,25 @@ class CentroidalFeedbackStabilizer:
         self.compliance = {n: _Compliance(np.zeros(3), np.zeros(3)) for n in self.limb_names}
         self.gravity = np.array([0.0, 0.0, GRAVITY])
 
-    def stabilize(self, t: float, plan: CentroidalPlan, state: RobotState) -> WholeBodyTargets:
-        start = time.perf_counter_ns()
+    def desired_wrench(self, plan: CentroidalPlan, state: RobotState) -> np.ndarray:
+        """w-bar^d (eqs. 11-12): the projected planned wrench plus the centroidal PD."""
         com_d, velocity_d, orientation_d, omega_d = plan.desired_state()
-        rotation_d = to_matrix(orientation_d)
-        com_a = state.com_position_world
         feedback = np.concatenate(
             [
-                self.kp[:3] * (com_d - com_a)
+                self.kp[:3] * (com_d - state.com_position_world)
                 + self.kd[:3] * (velocity_d - state.com_velocity_world),
-                self.kp[3:] * rotation_error(rotation_d, to_matrix(state.base_orientation_world))
+                self.kp[3:]
+                * rotation_error(to_matrix(orientation_d), to_matrix(state.base_orientation_world))
                 + self.kd[3:] * (omega_d - state.base_angular_velocity_world),
             ]
         )  # eq. 11
-        wrench_desired = plan.wrench_projected_world + feedback  # eq. 12
+        return plan.wrench_projected_world + feedback  # eq. 12
+
+    def stabilize(self, t: float, plan: CentroidalPlan, state: RobotState) -> WholeBodyTargets:
+        start = time.perf_counter_ns()
+        com_d, _, orientation_d, _ = plan.desired_state()
+        com_a = state.com_position_world
+        wrench_desired = self.desired_wrench(plan, state)
         after_feedback = time.perf_counter_ns()
 
         # eqs. 13-14: distribute over the contacts at their target poses.

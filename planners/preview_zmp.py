@@ -1,0 +1,154 @@
+"""Planner `preview_zmp`: Kajita's ZMP preview control on the cart-table model (Kajita et al.,
+ICRA 2003), the bipedal baseline whose output definition Murooka et al. compare theirs with
+(Sec. III-A2: same state and input, but the ZMP as the output instead of [c, f-bar]).
+
+Horizontal axes: state [x, x', x''], input the jerk, output the ZMP p = x - (z_c / g) x''
+(cart-table with a constant CoM height z_c); cost sum Q (p - p_ref)^2 + R u^2 with Kajita's
+weights Q = 1, R = 1e-6, discretised at 5 ms with a 2 s preview (Kajita uses 1.6 s; 2 s as in
+Table I, so both planners see the same future). The ZMP reference is the support centre, by the
+same piecewise-constant rule as `preview_control` (`planners.reference`). The height is held at
+the reference (a constant offset above the support) and the base orientation level.
+
+To give the stabilizers the same kind of plan as `preview_control`, the planned resultant
+wrench [m x''; m z''; 0 moment about the CoM] goes through the same projection (eqs. 9-10);
+its projection error then shows how far the cart-table plan is from the contact constraints.
+The steady-state tail correction of `centroidal.preview` is used as for `preview_control`.
+"""
+
+from __future__ import annotations
+
+import time
+
+import numpy as np
+
+from centroidal.contacts import ContactSurface, contact_set
+from centroidal.preview import TripleIntegratorPreview, output_preview_gains
+from centroidal.projection import DEFAULT_BACKEND, WrenchProjector
+from centroidal.rotations import IDENTITY_WXYZ, from_matrix, to_matrix
+from centroidal.wrench import cross, zmp_on_plane
+from planners.base import PlannerSpec, register
+from planners.preview_control import CONTACT_MARGIN
+from planners.reference import com_reference, support_centre
+from robots.model import RobotModel
+from robots.scene import Scenario
+from robots.types import CentroidalPlan, RobotState
+
+GRAVITY = np.array([0.0, 0.0, 9.81])
+KAJITA = {"q": 1.0, "r": 1e-6, "dtau": 0.005, "horizon": 400}
+
+
+class PreviewZmpPlanner:
+    name = "preview_zmp"
+
+    def __init__(self, dt: float, projection_backend: str = DEFAULT_BACKEND) -> None:
+        self.dt = dt
+        self.projector = WrenchProjector(projection_backend)
+        self.dtau, self.horizon = KAJITA["dtau"], KAJITA["horizon"]
+
+    def reset(self, robot: RobotModel, scenario: Scenario, state: RobotState) -> None:
+        self.scenario = scenario
+        description = robot.robot
+        self.mass = description.total_mass
+        com = np.asarray(state.com_position_world, dtype=float)
+        _, support_height = support_centre(scenario, 0.0)
+        self.height = com[2] - support_height  # z_c of the cart-table
+        gains = output_preview_gains(
+            ((1.0, 0.0, -self.height / GRAVITY[2]),),
+            (KAJITA["q"],),
+            KAJITA["r"],
+            self.dtau,
+            self.horizon,
+        )
+        self.horizontal = TripleIntegratorPreview(gains, self.dt, 2)
+        self.horizontal.state[:, 0] = com[:2]
+        self.horizontal.state[:, 1] = np.asarray(state.com_velocity_world)[:2]
+        n_samples = int(np.ceil(scenario.duration / self.dtau)) + self.horizon + 2
+        self.reference = com_reference(scenario, self.dtau, n_samples, self.height)
+        self.window = np.zeros((self.horizon, 2, 1))
+        self.limbs = description.limbs
+        friction = scenario.scene.friction
+        self.surfaces = {
+            limb.name: ContactSurface.rectangle(
+                *limb.half_extents, friction, margin=CONTACT_MARGIN * description.scale
+            )
+            for limb in self.limbs
+        }
+        self.start_pose = {}
+        for limb in self.limbs:
+            position, rotation = robot.frame_pose(state, limb.contact_frame)
+            self.start_pose[limb.name] = (position, from_matrix(rotation))
+        self.height_state = np.array([com[2], 0.0])
+
+    def plan(self, t: float, state: RobotState) -> CentroidalPlan:
+        start = time.perf_counter_ns()
+        index = int(t / self.dtau + 1e-9)
+        self.window[:, :, 0] = self.reference[index + 1 : index + 1 + self.horizon, :2]
+        reference_now = self.reference[index]
+        after_reference = time.perf_counter_ns()
+
+        self.horizontal.advance(self.horizontal.jerk(self.window))
+        x = self.horizontal.state
+        # vertical: follow the reference height (constant on flat ground); acceleration from
+        # the change of the reference over this period, velocity as its slope.
+        z_next = reference_now[2]
+        z_velocity = (z_next - self.height_state[0]) / self.dt
+        z_acceleration = (z_velocity - self.height_state[1]) / self.dt
+        self.height_state = np.array([z_next, z_velocity])
+        com = np.array([x[0, 0], x[1, 0], z_next])
+        velocity = np.array([x[0, 1], x[1, 1], z_velocity])
+        acceleration = np.array([x[0, 2], x[1, 2], z_acceleration])
+        wrench_planned = np.concatenate([self.mass * acceleration, np.zeros(3)])
+        after_preview = time.perf_counter_ns()
+
+        phase = self.scenario.phase_at(t)
+        contacts = contact_set(
+            list(phase.limbs),
+            [self.surfaces[c.limb] for c in phase.contacts],
+            [np.asarray(c.position_world, dtype=float) for c in phase.contacts],
+            [to_matrix(c.orientation_world) for c in phase.contacts],
+        )
+        force = wrench_planned[:3] + self.mass * GRAVITY
+        offset = np.concatenate([self.mass * GRAVITY, cross(com, force)])
+        projected_contact, _ = self.projector.project(contacts.matrix, wrench_planned + offset)
+        wrench_projected = projected_contact - offset
+        height = float(np.mean([c.position_world[2] for c in phase.contacts]))
+        zmp = zmp_on_plane(projected_contact, height)
+        after_projection = time.perf_counter_ns()
+
+        positions = np.empty((len(self.limbs), 3))
+        orientations = np.empty((len(self.limbs), 4))
+        tracked = np.zeros(len(self.limbs), dtype=bool)
+        for k, limb in enumerate(self.limbs):
+            pose = self.scenario.limb_pose(limb.name, t)
+            tracked[k] = pose is not None
+            positions[k], orientations[k] = pose if pose is not None else self.start_pose[limb.name]
+        zero = np.zeros(3)
+        return CentroidalPlan(
+            com_reference_world=reference_now,
+            com_planned_world=com,
+            com_velocity_planned_world=velocity,
+            com_acceleration_planned_world=acceleration,
+            base_orientation_planned_world=IDENTITY_WXYZ,
+            base_angular_velocity_planned_world=zero,
+            wrench_planned_world=wrench_planned,
+            wrench_projected_world=wrench_projected,
+            zmp_planned_world=zmp,
+            contact_limbs=phase.limbs,
+            limb_target_position_world=positions,
+            limb_target_orientation_world=orientations,
+            timings_ns={
+                "reference": after_reference - start,
+                "preview": after_preview - after_reference,
+                "projection": after_projection - after_preview,
+            },
+            limb_tracked=tracked,
+        )
+
+
+register(
+    PlannerSpec(
+        "preview_zmp",
+        PreviewZmpPlanner,
+        "Kajita et al. 2003: ZMP preview control on the cart-table model",
+    )
+)
