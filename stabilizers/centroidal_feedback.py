@@ -60,6 +60,20 @@ TABLE_II = {
 CONTACT_MARGIN = 0.01  # [m], as in planners.preview_control
 
 
+def _damping_parameters() -> dict[str, tuple[np.ndarray, np.ndarray, np.ndarray]]:
+    """(K_d, K_s, K_f) arrays of Table II for a limb in contact, free, or the only one in
+    contact (Table II's note: its linear components take the non-contact values)."""
+    contact = [np.array(TABLE_II["contact"][x], dtype=float) for x in ("kd", "ks", "kf")]
+    free = [np.array(TABLE_II["free"][x], dtype=float) for x in ("kd", "ks", "kf")]
+    single = [c.copy() for c in contact]
+    for s, f in zip(single, free, strict=True):
+        s[:3] = f[:3]
+    return {"contact": tuple(contact), "free": tuple(free), "single": tuple(single)}
+
+
+_DAMPING = _damping_parameters()
+
+
 def appendix_gains(mass: float, omega2: float, k_xi: float) -> tuple[float, float]:
     """K_PL = m omega^2 K_xi and K_DL = m omega K_xi (Murooka eq. 19)."""
     return mass * omega2 * k_xi, mass * np.sqrt(omega2) * k_xi
@@ -105,6 +119,25 @@ class CentroidalFeedbackStabilizer:
         }
         self.compliance = {n: _Compliance(np.zeros(3), np.zeros(3)) for n in self.limb_names}
         self.gravity = np.array([0.0, 0.0, GRAVITY])
+        self._cache_key, self._cache = None, None
+
+    def _contact_set(self, contact_index, positions, orientations):
+        """G of the contacts at their target poses, rebuilt only when they change (at contact
+        switches, or when a target moves)."""
+        key = (
+            tuple(contact_index),
+            positions[contact_index].tobytes(),
+            orientations[contact_index].tobytes(),
+        )
+        if self._cache_key != key:
+            self._cache = contact_set(
+                [self.limb_names[k] for k in contact_index],
+                [self.surfaces[self.limb_names[k]] for k in contact_index],
+                [positions[k] for k in contact_index],
+                [to_matrix(orientations[k]) for k in contact_index],
+            )
+            self._cache_key = key
+        return self._cache
 
     def desired_wrench(self, plan: CentroidalPlan, state: RobotState) -> np.ndarray:
         """w-bar^d (eqs. 11-12): the projected planned wrench plus the centroidal PD."""
@@ -137,11 +170,8 @@ class CentroidalFeedbackStabilizer:
         desired_limb = np.zeros((len(self.limbs), 6))
         distributed = np.zeros(6)
         if contact_index:
-            contacts = contact_set(
-                [self.limb_names[k] for k in contact_index],
-                [self.surfaces[self.limb_names[k]] for k in contact_index],
-                [positions[k] for k in contact_index],
-                [rotations[k] for k in contact_index],
+            contacts = self._contact_set(
+                contact_index, positions, plan.limb_target_orientation_world
             )
             distributed, ridge = self.projector.project(contacts.matrix, wrench_desired + offset)
             for k in contact_index:
@@ -156,11 +186,7 @@ class CentroidalFeedbackStabilizer:
         compliant_position = np.empty_like(positions)
         compliant_orientation = np.empty((len(self.limbs), 4))
         for k, name in enumerate(self.limb_names):
-            contact = TABLE_II["contact" if in_contact[k] else "free"]
-            kd, ks, kf = (np.array(contact[x], dtype=float) for x in ("kd", "ks", "kf"))
-            if in_contact[k] and single:  # Table II's note: linear part as in non-contact
-                free = TABLE_II["free"]
-                kd[:3], ks[:3], kf[:3] = free["kd"][:3], free["ks"][:3], free["kf"][:3]
+            kd, ks, kf = _DAMPING[("single" if single else "contact") if in_contact[k] else "free"]
             measured = state.contact_wrench_limb[k]
             error = np.concatenate(
                 [
