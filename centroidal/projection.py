@@ -24,6 +24,9 @@ import qpsolvers
 import scipy.optimize
 import scipy.sparse
 
+from centroidal.wrench import cross as _cross
+
+GRAVITY = np.array([0.0, 0.0, 9.81])
 DEFAULT_BACKEND = "nnls"  # fastest on the walk's contact sets (16, 32 ridges); see README
 REGULARIZATION = 1e-8
 
@@ -212,3 +215,15 @@ class WrenchProjector:
         """(G lambda, lambda): the feasible contact wrench closest to `w`, and its ridge forces."""
         forces = self.ridge_forces(G, w, upper)
         return G @ forces, forces
+
+
+def project_resultant(
+    projector: WrenchProjector, contacts, mass: float, com: np.ndarray, resultant: np.ndarray
+):
+    """Eqs. 9-10: the resultant wrench w-bar (force [N]; moment about the CoM [N m]) as a
+    contact wrench w = w-bar + [m g; c x f], projected onto the contacts' cone, and back:
+    (w-bar', G lambda)."""
+    force = resultant[:3] + mass * GRAVITY
+    offset = np.concatenate([mass * GRAVITY, _cross(com, force)])
+    projected_contact, _ = projector.project(contacts.matrix, resultant + offset)
+    return projected_contact - offset, projected_contact

@@ -33,18 +33,17 @@ import time
 
 import numpy as np
 
-from centroidal.contacts import ContactSurface, contact_set
+from centroidal.contacts import contact_set
 from centroidal.preview import TripleIntegratorPreview, preview_gains
-from centroidal.projection import DEFAULT_BACKEND, WrenchProjector
+from centroidal.projection import DEFAULT_BACKEND, WrenchProjector, project_resultant
 from centroidal.rotations import exp, from_matrix, log, to_matrix
-from centroidal.wrench import cross, zmp_on_plane
+from centroidal.wrench import zmp_on_plane
 from planners.base import PlannerSpec, register
 from planners.reference import com_reference, support_centre
+from robots.limbs import limb_surfaces, limb_targets
 from robots.model import RobotModel
 from robots.scene import Scenario
 from robots.types import CentroidalPlan, RobotState
-
-GRAVITY = np.array([0.0, 0.0, 9.81])
 
 # Table I (Murooka et al. 2022): weights of eq. 4 and the preview discretisation.
 TABLE_I = {
@@ -55,7 +54,6 @@ TABLE_I = {
     "dtau": 0.005,
     "horizon": 400,
 }
-CONTACT_MARGIN = 0.01  # [m], inner margin of the contact polygons
 
 
 class PreviewControlPlanner:
@@ -118,12 +116,7 @@ class PreviewControlPlanner:
         self.zero_window = np.zeros((self.horizon, 1, 2))
         friction = scenario.scene.friction
         self.limbs = description.limbs
-        self.surfaces = {
-            limb.name: ContactSurface.rectangle(
-                *limb.half_extents, friction, margin=CONTACT_MARGIN * description.scale
-            )
-            for limb in self.limbs
-        }
+        self.surfaces = limb_surfaces(description, friction)
         self.start_pose = {}
         for limb in self.limbs:
             position, rotation = robot.frame_pose(state, limb.contact_frame)
@@ -165,10 +158,9 @@ class PreviewControlPlanner:
 
         phase, contacts, height = self._contacts(t)
         com_planned = planned[:, 0]
-        force_planned = wrench_planned[:3] + self.mass * GRAVITY
-        offset = np.concatenate([self.mass * GRAVITY, cross(com_planned, force_planned)])
-        projected_contact, _ = self.projector.project(contacts.matrix, wrench_planned + offset)
-        wrench_projected = projected_contact - offset  # eq. 10
+        wrench_projected, projected_contact = project_resultant(
+            self.projector, contacts, self.mass, com_planned, wrench_planned
+        )  # eqs. 9-10
 
         # r^d: eq. 1 over one period from the current state with the projected wrench.
         dt = self.dt
@@ -192,13 +184,9 @@ class PreviewControlPlanner:
         zmp = zmp_on_plane(projected_contact, height)
         after_projection = time.perf_counter_ns()
 
-        positions = np.empty((len(self.limbs), 3))
-        orientations = np.empty((len(self.limbs), 4))
-        tracked = np.zeros(len(self.limbs), dtype=bool)
-        for k, limb in enumerate(self.limbs):
-            pose = self.scenario.limb_pose(limb.name, t)
-            tracked[k] = pose is not None
-            positions[k], orientations[k] = pose if pose is not None else self.start_pose[limb.name]
+        positions, orientations, tracked = limb_targets(
+            self.scenario, self.limbs, self.start_pose, t
+        )
         return CentroidalPlan(
             com_reference_world=reference_now,
             com_planned_world=com_planned,

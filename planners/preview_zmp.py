@@ -21,19 +21,18 @@ import time
 
 import numpy as np
 
-from centroidal.contacts import ContactSurface, contact_set
+from centroidal.contacts import contact_set
 from centroidal.preview import TripleIntegratorPreview, output_preview_gains
-from centroidal.projection import DEFAULT_BACKEND, WrenchProjector
+from centroidal.projection import DEFAULT_BACKEND, GRAVITY, WrenchProjector, project_resultant
 from centroidal.rotations import IDENTITY_WXYZ, from_matrix, to_matrix
-from centroidal.wrench import cross, zmp_on_plane
+from centroidal.wrench import zmp_on_plane
 from planners.base import PlannerSpec, register
-from planners.preview_control import CONTACT_MARGIN
 from planners.reference import com_reference, support_centre
+from robots.limbs import limb_surfaces, limb_targets
 from robots.model import RobotModel
 from robots.scene import Scenario
 from robots.types import CentroidalPlan, RobotState
 
-GRAVITY = np.array([0.0, 0.0, 9.81])
 KAJITA = {"q": 1.0, "r": 1e-6, "dtau": 0.005, "horizon": 400}
 
 
@@ -66,13 +65,7 @@ class PreviewZmpPlanner:
         self.reference = com_reference(scenario, self.dtau, n_samples, self.height)
         self.window = np.zeros((self.horizon, 2, 1))
         self.limbs = description.limbs
-        friction = scenario.scene.friction
-        self.surfaces = {
-            limb.name: ContactSurface.rectangle(
-                *limb.half_extents, friction, margin=CONTACT_MARGIN * description.scale
-            )
-            for limb in self.limbs
-        }
+        self.surfaces = limb_surfaces(description, scenario.scene.friction)
         self.start_pose = {}
         for limb in self.limbs:
             position, rotation = robot.frame_pose(state, limb.contact_frame)
@@ -107,21 +100,16 @@ class PreviewZmpPlanner:
             [np.asarray(c.position_world, dtype=float) for c in phase.contacts],
             [to_matrix(c.orientation_world) for c in phase.contacts],
         )
-        force = wrench_planned[:3] + self.mass * GRAVITY
-        offset = np.concatenate([self.mass * GRAVITY, cross(com, force)])
-        projected_contact, _ = self.projector.project(contacts.matrix, wrench_planned + offset)
-        wrench_projected = projected_contact - offset
+        wrench_projected, projected_contact = project_resultant(
+            self.projector, contacts, self.mass, com, wrench_planned
+        )  # eqs. 9-10
         height = float(np.mean([c.position_world[2] for c in phase.contacts]))
         zmp = zmp_on_plane(projected_contact, height)
         after_projection = time.perf_counter_ns()
 
-        positions = np.empty((len(self.limbs), 3))
-        orientations = np.empty((len(self.limbs), 4))
-        tracked = np.zeros(len(self.limbs), dtype=bool)
-        for k, limb in enumerate(self.limbs):
-            pose = self.scenario.limb_pose(limb.name, t)
-            tracked[k] = pose is not None
-            positions[k], orientations[k] = pose if pose is not None else self.start_pose[limb.name]
+        positions, orientations, tracked = limb_targets(
+            self.scenario, self.limbs, self.start_pose, t
+        )
         zero = np.zeros(3)
         return CentroidalPlan(
             com_reference_world=reference_now,

@@ -30,10 +30,11 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from centroidal.contacts import ContactSurface, contact_set
+from centroidal.contacts import contact_set
 from centroidal.projection import DEFAULT_BACKEND, WrenchProjector
 from centroidal.rotations import exp, from_matrix, log, rotation_error, to_matrix
 from centroidal.wrench import cross, zmp_on_plane
+from robots.limbs import limb_surfaces
 from robots.model import RobotModel
 from robots.scene import Scenario
 from robots.types import CentroidalPlan, RobotState, WholeBodyTargets
@@ -57,7 +58,6 @@ TABLE_II = {
         "kf": (0, 0, 0, 0, 0, 0),
     },
 }
-CONTACT_MARGIN = 0.01  # [m], as in planners.preview_control
 
 
 def _damping_parameters() -> dict[str, tuple[np.ndarray, np.ndarray, np.ndarray]]:
@@ -111,12 +111,7 @@ class CentroidalFeedbackStabilizer:
         self.limbs = description.limbs
         self.limb_names = description.limb_names
         friction = scenario.scene.friction
-        self.surfaces = {
-            limb.name: ContactSurface.rectangle(
-                *limb.half_extents, friction, margin=CONTACT_MARGIN * description.scale
-            )
-            for limb in self.limbs
-        }
+        self.surfaces = limb_surfaces(description, friction)
         self.compliance = {n: _Compliance(np.zeros(3), np.zeros(3)) for n in self.limb_names}
         self.gravity = np.array([0.0, 0.0, GRAVITY])
         self._cache_key, self._cache = None, None
