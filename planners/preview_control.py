@@ -65,14 +65,12 @@ class PreviewControlPlanner:
         projection_backend: str = DEFAULT_BACKEND,
         tail_correction: bool = True,
         horizon: int | None = None,
-        continue_from_desired: bool = True,
     ) -> None:
         self.dt = dt
         self.projector = WrenchProjector(projection_backend)
         self.tail_correction = tail_correction
         self.horizon = horizon or TABLE_I["horizon"]
         self.dtau = TABLE_I["dtau"]
-        self.continue_from_desired = continue_from_desired
 
     def reset(self, robot: RobotModel, scenario: Scenario, state: RobotState) -> None:
         self.robot_model, self.scenario = robot, scenario
@@ -167,20 +165,18 @@ class PreviewControlPlanner:
         acceleration = wrench_projected[:3] / self.mass
         com_desired = linear_now[:, 0] + linear_now[:, 1] * dt + 0.5 * acceleration * dt * dt
         velocity_desired = linear_now[:, 1] + acceleration * dt
-        if self.continue_from_desired:
-            self.linear.state = np.column_stack([com_desired, velocity_desired, acceleration])
+        self.linear.state = np.column_stack([com_desired, velocity_desired, acceleration])
         angular_acceleration = wrench_projected[3:] / self.inertia
         alpha_desired = (
             angular_now[:, 0] + angular_now[:, 1] * dt + 0.5 * angular_acceleration * dt**2
         )
         omega_desired = angular_now[:, 1] + angular_acceleration * dt
-        if self.continue_from_desired:
-            for axis, preview in enumerate(self.angular):
-                preview.state[0] = [
-                    alpha_desired[axis],
-                    omega_desired[axis],
-                    angular_acceleration[axis],
-                ]
+        for axis, preview in enumerate(self.angular):
+            preview.state[0] = [
+                alpha_desired[axis],
+                omega_desired[axis],
+                angular_acceleration[axis],
+            ]
         zmp = zmp_on_plane(projected_contact, height)
         after_projection = time.perf_counter_ns()
 
