@@ -35,13 +35,17 @@ NOMINAL_MASS_KG = 58.4
 
 # Joint limits at scale 1: (lower, upper) [rad], speed [rad/s], torque [N m], kp [N m/rad],
 # kd [N m s/rad]. Roll limits are for the left side; the right side mirrors them.
+# The ankle kd is the free foot's critical damping, 2 sqrt(kp I_foot) (I_foot = 7.7e-3 and
+# 3.9e-3 kg m^2 about pitch and roll): the servo runs explicitly at every 1 ms physics step,
+# and the earlier 15 and 8 N m s/rad gave kd dt / I_foot ~ 2, an unstable swing ankle that
+# oscillated at 500 Hz (tests/robots/test_servo_stability.py).
 _LEG_JOINTS = {
     "hip_yaw": ((-0.7, 0.7), 8.0, 100.0, 600.0, 6.0),
     "hip_roll": ((-0.4, 0.8), 8.0, 200.0, 1500.0, 60.0),
     "hip_pitch": ((-2.0, 0.6), 8.0, 250.0, 1500.0, 60.0),
     "knee": ((0.0, 2.4), 10.0, 300.0, 1500.0, 40.0),
-    "ankle_pitch": ((-1.0, 0.8), 10.0, 200.0, 800.0, 15.0),
-    "ankle_roll": ((-0.4, 0.4), 10.0, 120.0, 800.0, 8.0),
+    "ankle_pitch": ((-1.0, 0.8), 10.0, 200.0, 800.0, 5.0),
+    "ankle_roll": ((-0.4, 0.4), 10.0, 120.0, 800.0, 3.5),
 }
 _ARM_JOINTS = {
     "shoulder_pitch": ((-3.0, 1.0), 6.0, 80.0, 300.0, 6.0),

@@ -1,6 +1,8 @@
-"""preview_control (+ centroidal_feedback) on the walk: it walks 10 steps in both simulators,
-the planned ZMP stays in the support polygon (Murooka Fig. 3B), the summary carries the Table IV
-latency rows and the Sec. V-G projection errors; and the reference follows the paper's rules."""
+"""The paper's two controller pairs on the walk, preview_control + centroidal_feedback and the
+classic baseline preview_zmp + dcm: each walks 10 steps in both simulators, the planned ZMP
+stays in the support polygon (Murooka Fig. 3B), the measured foot forces carry m g, the summary
+carries the Table IV latency rows and the Sec. V-G projection errors; and the reference follows
+the paper's rules."""
 
 import numpy as np
 import pytest
@@ -12,19 +14,19 @@ from robots.humanoid import humanoid
 from robots.model import RobotModel
 
 SIMS = ["mujoco", "pybullet"]
+PAIRS = [("preview_control", "centroidal_feedback"), ("preview_zmp", "dcm")]
+RUNS = [(planner, stabilizer, sim) for planner, stabilizer in PAIRS for sim in SIMS]
+RUN_IDS = [f"{p}+{s}-{sim}" for p, s, sim in RUNS]
 
 
 @pytest.fixture(scope="module")
 def walks():
-    return {
-        sim: run_episode(EpisodeSpec("preview_control", "centroidal_feedback", sim, "walk"))
-        for sim in SIMS
-    }
+    return {run: run_episode(EpisodeSpec(*run, "walk")) for run in RUNS}
 
 
-@pytest.mark.parametrize("sim", SIMS)
-def test_walks_ten_steps_without_falling(walks, sim):
-    result = walks[sim]
+@pytest.mark.parametrize("run", RUNS, ids=RUN_IDS)
+def test_walks_ten_steps_without_falling(walks, run):
+    result = walks[run]
     summary = result.summary
     assert summary["status"] == "ok", summary["error"] or summary["fall_reason"]
     assert summary["fell"] is False
@@ -39,15 +41,31 @@ def test_walks_ten_steps_without_falling(walks, sim):
     assert abs(final["com_actual_y"]) < 0.05
 
 
-@pytest.mark.parametrize("sim", SIMS)
-def test_planned_zmp_stays_in_the_support_polygon(walks, sim):
-    assert walks[sim].summary["zmp_margin_min_m"] > 0.0
-    assert (walks[sim].trace["zmp_margin_m"] > 0.0).all()
+@pytest.mark.parametrize("run", RUNS, ids=RUN_IDS)
+def test_planned_zmp_stays_in_the_support_polygon(walks, run):
+    assert walks[run].summary["zmp_margin_min_m"] > 0.0
+    assert (walks[run].trace["zmp_margin_m"] > 0.0).all()
 
 
-@pytest.mark.parametrize("sim", SIMS)
-def test_summary_has_table_iv_rows_and_projection_errors(walks, sim):
-    summary = walks[sim].summary
+@pytest.mark.parametrize("run", RUNS, ids=RUN_IDS)
+def test_feet_carry_the_weight_in_every_single_support(walks, run):
+    """Momentum balance: over each single-support phase the CoM's vertical velocity returns
+    close to where it started, so the measured vertical foot force averages m g. (A servo
+    oscillating at the physics step once made the stance foot read 1.2 m g here.)"""
+    trace = walks[run].trace
+    scenario = make_scenario("walk", RobotModel(humanoid()))
+    weight = humanoid().total_mass * 9.81
+    vertical = sum(trace[f"wrench_measured_{foot}_fz"] for foot in ("left_foot", "right_foot"))
+    singles = [p for p in scenario.phases if len(p.contacts) == 1]
+    assert len(singles) == 10
+    for phase in singles:
+        inside = (trace["time"] >= phase.start + 0.05) & (trace["time"] < phase.end - 0.05)
+        assert vertical[inside].mean() == pytest.approx(weight, rel=0.03), phase.start
+
+
+@pytest.mark.parametrize("run", [r for r in RUNS if r[1] == "centroidal_feedback"])
+def test_summary_has_table_iv_rows_and_projection_errors(walks, run):
+    summary = walks[run].summary
     for row in ("reference", "preview", "projection", "distribution", "centroidal_total"):
         assert row in summary["latency_us"]
     errors = summary["projection_error"]
@@ -59,7 +77,7 @@ def test_summary_has_table_iv_rows_and_projection_errors(walks, sim):
     }
     for value in errors.values():
         assert 0.0 <= value < 50.0  # N or N m; Murooka reports single digits
-    trace = walks[sim].trace
+    trace = walks[run].trace
     # centroidal_total is the per-period sum of the four Table IV rows
     parts = trace[[f"t_{r}_us" for r in ("reference", "preview", "projection", "distribution")]]
     np.testing.assert_allclose(trace["t_centroidal_total_us"], parts.sum(axis=1), rtol=1e-9)
