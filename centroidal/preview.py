@@ -27,6 +27,7 @@ the offset; the gains K_ff[1..Nh-1] and K_fb are untouched.
 from __future__ import annotations
 
 import functools
+from collections.abc import Sequence
 from dataclasses import dataclass
 
 import numpy as np
@@ -104,19 +105,38 @@ def output_preview_gains(
 
 
 class TripleIntegratorPreview:
-    """Preview control of several independent axes sharing one gain set: states (axes, 3)."""
+    """Preview control of several independent axes: states (axes, 3) [p, p', p''].
 
-    def __init__(self, gains: PreviewGains, control_dt: float, n_axes: int) -> None:
-        self.gains = gains
+    `gains` is one `PreviewGains` shared by `n_axes` axes, or a sequence with one per axis
+    (e.g. Murooka's six: three linear axes sharing the mass, three angular axes with their own
+    inertia). The gains are stacked once, so one period is a few array operations."""
+
+    def __init__(
+        self, gains: PreviewGains | Sequence[PreviewGains], control_dt: float, n_axes: int = 1
+    ) -> None:
+        per_axis = list(gains) if isinstance(gains, Sequence) else [gains] * n_axes
+        self.gains = per_axis[0]
+        self.feedback = np.array([g.feedback for g in per_axis])  # (axes, 3)
+        self.feedforward = np.array([g.feedforward for g in per_axis])  # (axes, Nh, outputs)
+        self._position_feedforward = np.ascontiguousarray(self.feedforward[:, :, 0])
         self.a_dt, self.b_dt = discrete_triple_integrator(control_dt)
-        self.state = np.zeros((n_axes, 3))
+        self.state = np.zeros((len(per_axis), 3))
 
     def jerk(self, reference_window: np.ndarray) -> np.ndarray:
         """Optimal jerk per axis (eq. 5) for references (Nh, axes, n_outputs) at samples
         k+1..k+Nh."""
-        return -self.state @ self.gains.feedback + np.einsum(
-            "ho,hao->a", self.gains.feedforward, reference_window
+        return -(self.state * self.feedback).sum(axis=1) + np.einsum(
+            "aho,hao->a", self.feedforward, reference_window
         )
+
+    def jerk_from_positions(self, positions: np.ndarray) -> np.ndarray:
+        """Eq. 5 when only the first output (the position) has a non-zero reference, on the
+        first k axes: `positions` (Nh, k) at samples k+1..k+Nh; the other axes' references
+        are zero (Murooka Sec. V-B: reference force, moment and base angle are zero)."""
+        jerk = -(self.state * self.feedback).sum(axis=1)
+        k = positions.shape[1]
+        jerk[:k] += np.einsum("ah,ha->a", self._position_feedforward[:k], positions)
+        return jerk
 
     def advance(self, jerk: np.ndarray) -> None:
         """Integrate every axis over one control period with constant jerk."""

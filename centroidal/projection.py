@@ -24,10 +24,8 @@ import qpsolvers
 import scipy.optimize
 import scipy.sparse
 
-from centroidal.wrench import cross as _cross
-
 GRAVITY = np.array([0.0, 0.0, 9.81])
-DEFAULT_BACKEND = "nnls"  # fastest on the walk's contact sets (16, 32 ridges); see README
+DEFAULT_BACKEND = "daqp_native"  # fastest accurate on the walk's contact sets; see README
 REGULARIZATION = 1e-8
 
 
@@ -99,6 +97,41 @@ def _qpsolvers(solver: str) -> Backend:
         )
 
     return solve
+
+
+class _DaqpNative:
+    """daqp through its own API, without qpsolvers' per-call checks and conversions, on the
+    condensed problem (H = G^T G + eps I, f = -G^T w, bounds 0 <= lambda <= upper). H depends
+    only on G, which changes at contact switches, so it is kept for the last G seen (compared
+    by identity: callers pass the same cached `ContactSet.matrix` while the contacts last;
+    arrays passed here are treated as read-only)."""
+
+    def __init__(self) -> None:
+        import daqp
+
+        self._daqp_solve = daqp.solve
+        self._matrix: np.ndarray | None = None
+        self._eps: float | None = None
+
+    def __call__(self, G, w, eps, upper):
+        if G is not self._matrix or eps != self._eps:
+            n = G.shape[1]
+            self._hessian = G.T @ G + eps * np.eye(n)
+            self._transpose = np.ascontiguousarray(-G.T)
+            self._no_rows = np.zeros((0, n))
+            self._unbounded = np.full(n, 1e30)
+            self._lower = np.zeros(n)
+            self._sense = np.zeros(n, dtype=np.int32)
+            self._matrix, self._eps = G, eps
+        solution, _, exitflag, _ = self._daqp_solve(
+            self._hessian,
+            self._transpose @ w,
+            self._no_rows,
+            self._unbounded if upper is None else upper,
+            self._lower,
+            self._sense.copy(),
+        )
+        return solution if exitflag >= 1 else None
 
 
 class _Cvxpy:
@@ -173,6 +206,7 @@ class _Casadi:
 def _backends() -> dict[str, Backend]:
     return {
         "nnls": _nnls,
+        "daqp_native": _DaqpNative(),
         "daqp": _qpsolvers("daqp"),
         "quadprog": _qpsolvers("quadprog"),
         "proxqp": _qpsolvers_lifted("proxqp"),
@@ -183,7 +217,17 @@ def _backends() -> dict[str, Backend]:
     }
 
 
-BACKEND_NAMES = ("nnls", "daqp", "quadprog", "proxqp", "osqp", "clarabel", "cvxpy", "casadi")
+BACKEND_NAMES = (
+    "nnls",
+    "daqp_native",
+    "daqp",
+    "quadprog",
+    "proxqp",
+    "osqp",
+    "clarabel",
+    "cvxpy",
+    "casadi",
+)
 
 
 class WrenchProjector:
@@ -223,7 +267,17 @@ def project_resultant(
     """Eqs. 9-10: the resultant wrench w-bar (force [N]; moment about the CoM [N m]) as a
     contact wrench w = w-bar + [m g; c x f], projected onto the contacts' cone, and back:
     (w-bar', G lambda)."""
-    force = resultant[:3] + mass * GRAVITY
-    offset = np.concatenate([mass * GRAVITY, _cross(com, force)])
+    offset = gravity_offset(mass, com, resultant)
     projected_contact, _ = projector.project(contacts.matrix, resultant + offset)
     return projected_contact - offset, projected_contact
+
+
+def gravity_offset(mass: float, com: np.ndarray, resultant: np.ndarray) -> np.ndarray:
+    """[m g; c x f] with f = f-bar + m g (eqs. 9 and 13): what turns a resultant wrench about
+    the CoM `com` [m] into the contact wrench about the world origin (scalar arithmetic: this
+    runs twice per control period)."""
+    weight = mass * float(GRAVITY[2])
+    fx, fy, fz = resultant[:3].tolist()
+    fz += weight
+    cx, cy, cz = com.tolist()
+    return np.array([0.0, 0.0, weight, cy * fz - cz * fy, cz * fx - cx * fz, cx * fy - cy * fx])

@@ -89,3 +89,81 @@ def rotation_error(target: np.ndarray, actual: np.ndarray) -> np.ndarray:
 def rotate_by_vector(rotation_vector: np.ndarray, rotation: np.ndarray) -> np.ndarray:
     """exp(rotation_vector) rotation: `rotation` turned by a world-axes rotation vector."""
     return exp(rotation_vector) @ rotation
+
+
+# Batched versions on stacks of quaternions (..., 4) and rotation vectors (..., 3), for the
+# per-limb loops of the stabilizers (one call for every limb instead of one per limb). The
+# product and the rotation matrix are bilinear / quadratic in the quaternion components, so each
+# is one `einsum` with a constant tensor, built below from the scalar formulas.
+
+
+def _hamilton(a, b):
+    aw, ax, ay, az = a
+    bw, bx, by, bz = b
+    return np.array(
+        [
+            aw * bw - ax * bx - ay * by - az * bz,
+            aw * bx + ax * bw + ay * bz - az * by,
+            aw * by - ax * bz + ay * bw + az * bx,
+            aw * bz + ax * by - ay * bx + az * bw,
+        ]
+    )
+
+
+def _unnormalised_matrix(q):
+    w, x, y, z = q
+    return np.array(
+        [
+            [w * w + x * x - y * y - z * z, 2 * (x * y - w * z), 2 * (x * z + w * y)],
+            [2 * (x * y + w * z), w * w - x * x + y * y - z * z, 2 * (y * z - w * x)],
+            [2 * (x * z - w * y), 2 * (y * z + w * x), w * w - x * x - y * y + z * z],
+        ]
+    )
+
+
+_BASIS = np.eye(4)
+_PRODUCT = np.stack(
+    [np.stack([_hamilton(a, b) for b in _BASIS], axis=-1) for a in _BASIS], axis=1
+)  # (4, 4, 4): c_i = sum_jk P_ijk a_j b_k
+_QUADRATIC = np.stack(
+    [
+        np.stack(
+            [0.25 * (_unnormalised_matrix(a + b) - _unnormalised_matrix(a - b)) for b in _BASIS],
+            axis=-1,
+        )
+        for a in _BASIS
+    ],
+    axis=2,
+)  # (3, 3, 4, 4): R_ij = sum_kl S_ijkl q_k q_l (polarisation of the quadratic form)
+
+
+def quaternion_multiply(a: np.ndarray, b: np.ndarray) -> np.ndarray:
+    """Hamilton products a b of quaternions (..., 4) in (w, x, y, z) order."""
+    return np.einsum("ijk,...j,...k->...i", _PRODUCT, a, b)
+
+
+def quaternions_from_vectors(rotation_vectors: np.ndarray) -> np.ndarray:
+    """Unit quaternions (..., 4) of rotation vectors (..., 3) [rad]."""
+    angle = np.sqrt((rotation_vectors * rotation_vectors).sum(axis=-1, keepdims=True))
+    # sin(angle / 2) / angle = sinc(angle / 2pi) / 2, exact at zero
+    scale = 0.5 * np.sinc(angle / (2.0 * np.pi))
+    return np.concatenate([np.cos(0.5 * angle), scale * rotation_vectors], axis=-1)
+
+
+def vectors_from_quaternions(quaternions_wxyz: np.ndarray) -> np.ndarray:
+    """Rotation vectors (..., 3) [rad], angle in [0, pi], of unit quaternions (..., 4)."""
+    w = quaternions_wxyz[..., :1]
+    vector = np.where(w < 0, -quaternions_wxyz[..., 1:], quaternions_wxyz[..., 1:])
+    w = np.abs(w)
+    sin_half = np.sqrt((vector * vector).sum(axis=-1, keepdims=True))
+    angle = 2.0 * np.arctan2(sin_half, w)
+    # angle / sin(angle / 2), with its limit 2 / w for a vanishing vector part
+    scale = np.divide(angle, sin_half, out=2.0 / np.maximum(w, 1e-300), where=sin_half > 1e-9)
+    return scale * vector
+
+
+def to_matrices(quaternions_wxyz: np.ndarray) -> np.ndarray:
+    """Rotation matrices (k, 3, 3) of quaternions (k, 4), each normalised first."""
+    q = quaternions_wxyz
+    q = q / np.sqrt((q * q).sum(axis=-1, keepdims=True))
+    return np.einsum("ijkl,nk,nl->nij", _QUADRATIC, q, q)

@@ -11,7 +11,11 @@ import numpy as np
 
 
 def cross(a: np.ndarray, b: np.ndarray) -> np.ndarray:
-    """a x b for 3-vectors or (k, 3) stacks (numpy's `cross` costs ~40 us a call)."""
+    """a x b for 3-vectors or (k, 3) stacks (numpy's `cross` costs 14-40 us a call)."""
+    if a.ndim == 1 and b.ndim == 1:
+        a0, a1, a2 = a.tolist()
+        b0, b1, b2 = b.tolist()
+        return np.array([a1 * b2 - a2 * b1, a2 * b0 - a0 * b2, a0 * b1 - a1 * b0])
     return np.stack(
         [
             a[..., 1] * b[..., 2] - a[..., 2] * b[..., 1],
@@ -46,7 +50,7 @@ def zmp_on_plane(wrench_about_origin: np.ndarray, height: float = 0.0) -> np.nda
     """The zero-moment point of a world wrench about the origin on the horizontal plane
     z = `height` [m]: the point where the horizontal moment vanishes. NaN when the vertical
     force is not positive."""
-    fx, fy, fz, nx, ny, _ = wrench_about_origin
+    fx, fy, fz, nx, ny, _ = wrench_about_origin.tolist()
     if fz <= 1e-9:
         return np.full(3, np.nan)
     return np.array([(height * fx - ny) / fz, (nx + height * fy) / fz, height])

@@ -20,8 +20,6 @@ from robots.model import RobotModel
 from robots.scene import Scenario
 from robots.types import CentroidalPlan, RobotState
 
-GRAVITY = 9.81
-
 
 class HoldPlanner:
     name = "hold"
@@ -39,7 +37,7 @@ class HoldPlanner:
         com = robot.com_position_world(state)
         self.com = np.array([support[0], support[1], com[2]])
         self.zmp = np.array([support[0], support[1], 0.0])
-        self.wrench = np.array([0.0, 0.0, robot.robot.total_mass * GRAVITY, 0.0, 0.0, 0.0])
+        self.wrench = np.zeros(6)
         poses = [robot.frame_pose(state, limb.contact_frame) for limb in limbs]
         self.start_position = np.array([p for p, _ in poses])
         self.start_orientation = np.array([from_matrix(r) for _, r in poses])

@@ -77,41 +77,31 @@ class PreviewControlPlanner:
         description = robot.robot
         self.mass = description.total_mass
         self.inertia = np.diag(robot.constant_inertia())
-        linear = preview_gains(
-            self.mass,
-            *TABLE_I["q_linear"],
-            TABLE_I["r_linear"],
-            self.dtau,
-            self.horizon,
-            self.tail_correction,
-        )
-        self.linear = TripleIntegratorPreview(linear, self.dt, 3)
-        self.angular = [
-            TripleIntegratorPreview(
-                preview_gains(
-                    float(i),
-                    *TABLE_I["q_angular"],
-                    TABLE_I["r_angular"],
-                    self.dtau,
-                    self.horizon,
-                    self.tail_correction,
-                ),
-                self.dt,
-                1,
+        gains = [
+            preview_gains(
+                float(scale),
+                *TABLE_I[f"q_{part}"],
+                TABLE_I[f"r_{part}"],
+                self.dtau,
+                self.horizon,
+                self.tail_correction,
             )
-            for i in self.inertia
+            for part, scale in zip(
+                ("linear",) * 3 + ("angular",) * 3,
+                (self.mass,) * 3 + tuple(self.inertia),
+                strict=True,
+            )
         ]
+        # rows: CoM x, y, z (output scale m), base angle x, y, z (output scale I_x, I_y, I_z)
+        self.preview = TripleIntegratorPreview(gains, self.dt)
+        self.output_scale = np.r_[np.full(3, self.mass), self.inertia]
         com = np.asarray(state.com_position_world, dtype=float)
-        self.linear.state[:, 0] = com
-        self.linear.state[:, 1] = state.com_velocity_world
-        alpha = log(to_matrix(state.base_orientation_world))
-        for axis, preview in enumerate(self.angular):
-            preview.state[0] = [alpha[axis], 0.0, 0.0]
+        self.preview.state[:3, 0] = com
+        self.preview.state[:3, 1] = state.com_velocity_world
+        self.preview.state[3:, 0] = log(to_matrix(state.base_orientation_world))
         _, support_height = support_centre(scenario, 0.0)
         n_samples = int(np.ceil(scenario.duration / self.dtau)) + self.horizon + 2
         self.reference = com_reference(scenario, self.dtau, n_samples, com[2] - support_height)
-        self.window = np.zeros((self.horizon, 3, 2))  # [c_ref, f_ref = 0] per axis
-        self.zero_window = np.zeros((self.horizon, 1, 2))
         friction = scenario.scene.friction
         self.limbs = description.limbs
         self.surfaces = limb_surfaces(description, friction)
@@ -138,45 +128,33 @@ class PreviewControlPlanner:
     def plan(self, t: float, state: RobotState) -> CentroidalPlan:
         start = time.perf_counter_ns()
         index = int(t / self.dtau + 1e-9)
-        self.window[:, :, 0] = self.reference[index + 1 : index + 1 + self.horizon]
+        window = self.reference[index + 1 : index + 1 + self.horizon]  # c_ref; f_ref = 0
         reference_now = self.reference[index]
         after_reference = time.perf_counter_ns()
 
-        linear_now = self.linear.state.copy()
-        self.linear.advance(self.linear.jerk(self.window))
-        angular_now = np.array([p.state[0].copy() for p in self.angular])
-        for preview in self.angular:
-            preview.advance(preview.jerk(self.zero_window))
-        planned = self.linear.state.copy()
-        planned_angular = np.array([p.state[0] for p in self.angular])
-        wrench_planned = np.concatenate(
-            [self.mass * planned[:, 2], self.inertia * planned_angular[:, 2]]
+        # eq. 5 on all six axes; the angular references (angle, moment) are zero (Sec. V-B).
+        now = self.preview.state
+        planned = now @ self.preview.a_dt.T + np.outer(
+            self.preview.jerk_from_positions(window), self.preview.b_dt
         )
+        wrench_planned = self.output_scale * planned[:, 2]
         after_preview = time.perf_counter_ns()
 
         phase, contacts, height = self._contacts(t)
-        com_planned = planned[:, 0]
+        com_planned = planned[:3, 0]
         wrench_projected, projected_contact = project_resultant(
             self.projector, contacts, self.mass, com_planned, wrench_planned
         )  # eqs. 9-10
 
-        # r^d: eq. 1 over one period from the current state with the projected wrench.
+        # r^d: eq. 1 over one period from the current state with the projected wrench (the
+        # angular part through the constant inertia of eq. 6); the preview continues from it.
         dt = self.dt
-        acceleration = wrench_projected[:3] / self.mass
-        com_desired = linear_now[:, 0] + linear_now[:, 1] * dt + 0.5 * acceleration * dt * dt
-        velocity_desired = linear_now[:, 1] + acceleration * dt
-        self.linear.state = np.column_stack([com_desired, velocity_desired, acceleration])
-        angular_acceleration = wrench_projected[3:] / self.inertia
-        alpha_desired = (
-            angular_now[:, 0] + angular_now[:, 1] * dt + 0.5 * angular_acceleration * dt**2
-        )
-        omega_desired = angular_now[:, 1] + angular_acceleration * dt
-        for axis, preview in enumerate(self.angular):
-            preview.state[0] = [
-                alpha_desired[axis],
-                omega_desired[axis],
-                angular_acceleration[axis],
-            ]
+        acceleration = wrench_projected / self.output_scale
+        desired = np.empty((6, 3))
+        desired[:, 0] = now[:, 0] + now[:, 1] * dt + 0.5 * dt * dt * acceleration
+        desired[:, 1] = now[:, 1] + acceleration * dt
+        desired[:, 2] = acceleration
+        self.preview.state = desired
         zmp = zmp_on_plane(projected_contact, height)
         after_projection = time.perf_counter_ns()
 
@@ -186,10 +164,10 @@ class PreviewControlPlanner:
         return CentroidalPlan(
             com_reference_world=reference_now,
             com_planned_world=com_planned,
-            com_velocity_planned_world=planned[:, 1],
-            com_acceleration_planned_world=planned[:, 2],
-            base_orientation_planned_world=from_matrix(exp(planned_angular[:, 0])),
-            base_angular_velocity_planned_world=planned_angular[:, 1],
+            com_velocity_planned_world=planned[:3, 1],
+            com_acceleration_planned_world=planned[:3, 2],
+            base_orientation_planned_world=from_matrix(exp(planned[3:, 0])),
+            base_angular_velocity_planned_world=planned[3:, 1],
             wrench_planned_world=wrench_planned,
             wrench_projected_world=wrench_projected,
             zmp_planned_world=zmp,
@@ -201,10 +179,10 @@ class PreviewControlPlanner:
                 "preview": after_preview - after_reference,
                 "projection": after_projection - after_preview,
             },
-            com_desired_world=com_desired,
-            com_velocity_desired_world=velocity_desired,
-            base_orientation_desired_world=from_matrix(exp(alpha_desired)),
-            base_angular_velocity_desired_world=omega_desired,
+            com_desired_world=desired[:3, 0],
+            com_velocity_desired_world=desired[:3, 1],
+            base_orientation_desired_world=from_matrix(exp(desired[3:, 0])),
+            base_angular_velocity_desired_world=desired[3:, 1],
             limb_tracked=tracked,
         )
 

@@ -29,11 +29,19 @@ import time
 from dataclasses import dataclass
 
 import numpy as np
+import scipy.linalg
 
-from centroidal.contacts import contact_set
-from centroidal.projection import DEFAULT_BACKEND, WrenchProjector
-from centroidal.rotations import exp, from_matrix, log, rotation_error, to_matrix
-from centroidal.wrench import cross, zmp_on_plane
+from centroidal.contacts import ContactSet, contact_set
+from centroidal.projection import DEFAULT_BACKEND, WrenchProjector, gravity_offset
+from centroidal.rotations import (
+    quaternion_multiply,
+    quaternions_from_vectors,
+    rotation_error,
+    to_matrices,
+    to_matrix,
+    vectors_from_quaternions,
+)
+from centroidal.wrench import zmp_on_plane
 from robots.limbs import limb_surfaces
 from robots.model import RobotModel
 from robots.scene import Scenario
@@ -89,12 +97,18 @@ def scaled_table_iii(mass: float, com_height: float) -> tuple[np.ndarray, np.nda
     return kp, kd
 
 
-@dataclass
-class _Compliance:
-    """Delta r^c of one limb end: linear [m] and rotation vector [rad], world axes."""
+@dataclass(frozen=True)
+class _ContactConfiguration:
+    """What the distribution and damping need for one set of contacts at given target poses:
+    built once per contact switch (or target move), reused every period in between."""
 
-    linear: np.ndarray
-    angular: np.ndarray
+    contacts: ContactSet  # G of eq. 13
+    index: np.ndarray  # limb indices in contact
+    to_limb_frames: np.ndarray  # (6 n_c, n): lambda -> each contact's w_i in its own frame
+    height: float  # mean contact height [m], the plane of the desired ZMP
+    kd: np.ndarray  # (limbs, 6) Table II parameters per limb for this configuration
+    ks: np.ndarray
+    kf: np.ndarray
 
 
 class CentroidalFeedbackStabilizer:
@@ -112,110 +126,118 @@ class CentroidalFeedbackStabilizer:
         self.limb_names = description.limb_names
         friction = scenario.scene.friction
         self.surfaces = limb_surfaces(description, friction)
-        self.compliance = {n: _Compliance(np.zeros(3), np.zeros(3)) for n in self.limb_names}
-        self.gravity = np.array([0.0, 0.0, GRAVITY])
+        # Delta r^c of every limb end (eq. 15): linear [m] and rotation vector [rad], world axes.
+        self.compliance_linear = np.zeros((len(self.limbs), 3))
+        self.compliance_angular = np.zeros((len(self.limbs), 3))
+        self.weight = np.array([0.0, 0.0, self.mass * GRAVITY])
         self._cache_key, self._cache = None, None
+        self._index_of: dict[tuple[str, ...], np.ndarray] = {}
 
-    def _contact_set(self, contact_index, positions, orientations):
-        """G of the contacts at their target poses, rebuilt only when they change (at contact
-        switches, or when a target moves)."""
-        key = (
-            tuple(contact_index),
-            positions[contact_index].tobytes(),
-            orientations[contact_index].tobytes(),
-        )
-        if self._cache_key != key:
-            self._cache = contact_set(
-                [self.limb_names[k] for k in contact_index],
-                [self.surfaces[self.limb_names[k]] for k in contact_index],
-                [positions[k] for k in contact_index],
-                [to_matrix(orientations[k]) for k in contact_index],
+    def _configuration(self, plan: CentroidalPlan) -> _ContactConfiguration:
+        """G and the per-limb data of the plan's contacts at their target poses (cached)."""
+        positions = plan.limb_target_position_world
+        orientations = plan.limb_target_orientation_world
+        index = self._index_of.get(plan.contact_limbs)
+        if index is None:
+            index = self._index_of[plan.contact_limbs] = np.array(
+                [k for k, name in enumerate(self.limb_names) if name in plan.contact_limbs],
+                dtype=int,
             )
-            self._cache_key = key
+        key = (plan.contact_limbs, positions[index].tobytes(), orientations[index].tobytes())
+        if self._cache_key == key:
+            return self._cache
+        rotations = to_matrices(orientations[index]) if len(index) else np.zeros((0, 3, 3))
+        contacts = contact_set(
+            [self.limb_names[k] for k in index],
+            [self.surfaces[self.limb_names[k]] for k in index],
+            [positions[k] for k in index],
+            list(rotations),
+        )
+        blocks = []
+        for j, k in enumerate(index):
+            # world wrench about the origin -> the limb frame about its origin
+            transpose = rotations[j].T
+            shift = np.eye(6)
+            shift[3:, :3] = -_skew(positions[k])
+            to_frame = np.kron(np.eye(2), transpose) @ shift
+            blocks.append(to_frame @ contacts.matrix[:, contacts.slices[j]])
+        to_limb_frames = (
+            scipy.linalg.block_diag(*blocks) if blocks else np.zeros((0, contacts.matrix.shape[1]))
+        )
+        mode = "single" if len(index) == 1 else "contact"
+        parameters = [_DAMPING[mode if k in index else "free"] for k in range(len(self.limb_names))]
+        kd, ks, kf = (np.array([p[i] for p in parameters]) for i in range(3))
+        height = float(positions[index, 2].mean()) if len(index) else 0.0
+        self._cache = _ContactConfiguration(contacts, index, to_limb_frames, height, kd, ks, kf)
+        self._cache_key = key
         return self._cache
 
     def desired_wrench(self, plan: CentroidalPlan, state: RobotState) -> np.ndarray:
         """w-bar^d (eqs. 11-12): the projected planned wrench plus the centroidal PD."""
         com_d, velocity_d, orientation_d, omega_d = plan.desired_state()
-        feedback = np.concatenate(
-            [
-                self.kp[:3] * (com_d - state.com_position_world)
-                + self.kd[:3] * (velocity_d - state.com_velocity_world),
-                self.kp[3:]
-                * rotation_error(to_matrix(orientation_d), to_matrix(state.base_orientation_world))
-                + self.kd[3:] * (omega_d - state.base_angular_velocity_world),
-            ]
-        )  # eq. 11
-        return plan.wrench_projected_world + feedback  # eq. 12
+        linear = self.kp[:3] * (com_d - state.com_position_world) + self.kd[:3] * (
+            velocity_d - state.com_velocity_world
+        )
+        if self.kp[3:].any() or self.kd[3:].any():
+            angular = self.kp[3:] * rotation_error(
+                to_matrix(orientation_d), to_matrix(state.base_orientation_world)
+            ) + self.kd[3:] * (omega_d - state.base_angular_velocity_world)
+        else:  # Table III: no angular feedback
+            angular = np.zeros(3)
+        return plan.wrench_projected_world + np.concatenate([linear, angular])  # eqs. 11-12
 
     def stabilize(self, t: float, plan: CentroidalPlan, state: RobotState) -> WholeBodyTargets:
         start = time.perf_counter_ns()
         com_d, _, orientation_d, _ = plan.desired_state()
-        com_a = state.com_position_world
         wrench_desired = self.desired_wrench(plan, state)
         after_feedback = time.perf_counter_ns()
 
-        # eqs. 13-14: distribute over the contacts at their target poses.
-        in_contact = [name in plan.contact_limbs for name in self.limb_names]
-        contact_index = [k for k, c in enumerate(in_contact) if c]
-        positions = plan.limb_target_position_world
-        rotations = [to_matrix(q) for q in plan.limb_target_orientation_world]
-        force_d = wrench_desired[:3] + self.mass * self.gravity
-        offset = np.concatenate([self.mass * self.gravity, cross(com_a, force_d)])
-        desired_limb = np.zeros((len(self.limbs), 6))
+        # eqs. 13-14: distribute over the contacts at their target poses, with the actual CoM.
+        configuration = self._configuration(plan)
+        n_limbs = len(self.limbs)
+        offset = gravity_offset(self.mass, state.com_position_world, wrench_desired)
+        desired_limb = np.zeros((n_limbs, 6))
         distributed = np.zeros(6)
-        if contact_index:
-            contacts = self._contact_set(
-                contact_index, positions, plan.limb_target_orientation_world
+        if len(configuration.index):
+            distributed, ridge = self.projector.project(
+                configuration.contacts.matrix, wrench_desired + offset
             )
-            distributed, ridge = self.projector.project(contacts.matrix, wrench_desired + offset)
-            for k in contact_index:
-                w = contacts.wrench_of(self.limb_names[k], ridge)  # about the world origin
-                moment_at_frame = w[3:] - cross(positions[k], w[:3])
-                desired_limb[k, :3] = rotations[k].T @ w[:3]
-                desired_limb[k, 3:] = rotations[k].T @ moment_at_frame
+            desired_limb[configuration.index] = (configuration.to_limb_frames @ ridge).reshape(
+                -1, 6
+            )
         after_distribution = time.perf_counter_ns()
 
-        # eqs. 15-16: damping control of each limb end.
-        single = len(contact_index) == 1
-        compliant_position = np.empty_like(positions)
-        compliant_orientation = np.empty((len(self.limbs), 4))
-        for k, name in enumerate(self.limb_names):
-            kd, ks, kf = _DAMPING[("single" if single else "contact") if in_contact[k] else "free"]
-            measured = state.contact_wrench_limb[k]
-            error = np.concatenate(
-                [
-                    rotations[k] @ (measured[:3] - desired_limb[k, :3]),
-                    rotations[k] @ (measured[3:] - desired_limb[k, 3:]),
-                ]
-            )
-            c = self.compliance[name]
-            delta = np.concatenate([c.linear, c.angular])
-            rate = -ks / kd * delta + kf / kd * error
-            c.linear = c.linear + self.dt * rate[:3]
-            c.angular = log(exp(self.dt * rate[3:]) @ exp(c.angular))
-            compliant_position[k] = positions[k] + c.linear
-            compliant_orientation[k] = from_matrix(exp(c.angular) @ rotations[k])
+        # eqs. 15-16: damping control of every limb end at once (world-axes errors).
+        targets = plan.limb_target_orientation_world
+        targets = targets / np.linalg.norm(targets, axis=1, keepdims=True)
+        difference = (state.contact_wrench_limb - desired_limb).reshape(n_limbs, 2, 3)
+        error = np.einsum("kij,kaj->kai", to_matrices(targets), difference).reshape(n_limbs, 6)
+        c = configuration
+        self.compliance_linear += self.dt * (
+            (c.kf[:, :3] * error[:, :3] - c.ks[:, :3] * self.compliance_linear) / c.kd[:, :3]
+        )
+        angular_rate = (c.kf[:, 3:] * error[:, 3:] - c.ks[:, 3:] * self.compliance_angular) / c.kd[
+            :, 3:
+        ]
+        turned = quaternion_multiply(
+            quaternions_from_vectors(self.dt * angular_rate),
+            quaternions_from_vectors(self.compliance_angular),
+        )
+        self.compliance_angular = vectors_from_quaternions(turned)  # eq. 16 on SO(3)
+        compliant_position = plan.limb_target_position_world + self.compliance_linear
+        compliant_orientation = quaternion_multiply(
+            quaternions_from_vectors(self.compliance_angular), targets
+        )
         end = time.perf_counter_ns()
 
-        total_desired = np.zeros(6)
-        for k in contact_index:
-            total_desired += np.concatenate(
-                [
-                    rotations[k] @ desired_limb[k, :3],
-                    rotations[k] @ desired_limb[k, 3:]
-                    + cross(positions[k], rotations[k] @ desired_limb[k, :3]),
-                ]
-            )
-        height = float(np.mean([positions[k][2] for k in contact_index])) if contact_index else 0.0
         return WholeBodyTargets(
             com_position_world=com_d,
             base_orientation_world=orientation_d,
             limb_position_world=compliant_position,
             limb_orientation_world=compliant_orientation,
-            limb_in_contact=np.array(in_contact),
+            limb_in_contact=np.isin(np.arange(n_limbs), configuration.index),
             com_desired_world=com_d,
-            zmp_desired_world=zmp_on_plane(total_desired, height),
+            zmp_desired_world=zmp_on_plane(distributed, configuration.height),
             contact_wrench_desired_limb=desired_limb,
             timings_ns={
                 "feedback": after_feedback - start,
@@ -226,6 +248,11 @@ class CentroidalFeedbackStabilizer:
             limb_tracked=plan.limb_tracked,
             wrench_distributed_world=distributed - offset,
         )
+
+
+def _skew(v: np.ndarray) -> np.ndarray:
+    """[v]x, so that [v]x u = v x u."""
+    return np.array([[0.0, -v[2], v[1]], [v[2], 0.0, -v[0]], [-v[1], v[0], 0.0]])
 
 
 register(

@@ -28,3 +28,139 @@ def test_scaling_follows_m_omega_squared():
     np.testing.assert_allclose(kp_c[:3], 4 * kp_a[:3])
     np.testing.assert_allclose(kd_c[:3], 2 * kd_a[:3])
     assert kp_a[3:].tolist() == [0, 0, 0]  # Table III: no angular feedback
+
+
+# --- Damping control of the limb ends (eqs. 15-16, Table II) -------------------------------
+
+DT = 0.002
+
+
+@pytest.fixture(scope="module")
+def standing():
+    from dataclasses import replace
+
+    from bench.scenarios import make_scenario
+    from robots.humanoid import humanoid
+    from robots.model import RobotModel
+
+    model = RobotModel(humanoid())
+    scenario = make_scenario("stand", model)
+    state = model.standing_state()
+    n_limbs = len(model.robot.limbs)
+    state = replace(
+        state,
+        com_position_world=model.com_position_world(state),
+        com_velocity_world=np.zeros(3),
+        contact_wrench_limb=np.zeros((n_limbs, 6)),
+        contact_flag_limb=np.zeros(n_limbs, dtype=bool),
+    )
+    return model, scenario, state
+
+
+def _stabilizer_and_plan(standing, contact_limbs):
+    from dataclasses import replace
+
+    from planners.hold import HoldPlanner
+    from stabilizers.centroidal_feedback import CentroidalFeedbackStabilizer
+
+    model, scenario, state = standing
+    planner = HoldPlanner(DT)
+    planner.reset(model, scenario, state)
+    plan = replace(planner.plan(0.0, state), contact_limbs=contact_limbs)
+    stabilizer = CentroidalFeedbackStabilizer(DT)
+    stabilizer.reset(model, scenario, state)
+    return stabilizer, plan
+
+
+def _with_wrenches(state, wrenches):
+    from dataclasses import replace
+
+    return replace(state, contact_wrench_limb=np.asarray(wrenches, dtype=float))
+
+
+def test_contact_damping_integrates_the_force_error(standing):
+    """Two feet in contact: K_d dr/dt = K_f (f^a - f^d) (eq. 15, Table II contact row: K_d 1e4,
+    K_s 0, K_f 1 for the linear part), so 100 N more than desired under the left foot moves its
+    target up by 100 / 1e4 * dt per period; the free hands keep zero compliance."""
+    stabilizer, plan = _stabilizer_and_plan(standing, ("left_foot", "right_foot"))
+    model, _, state = standing
+    left = model.robot.limb_names.index("left_foot")
+    targets = stabilizer.stabilize(0.0, plan, state)
+    measured = targets.contact_wrench_desired_limb.copy()  # exactly as desired: no motion
+    measured[left, 2] += 100.0
+    before = stabilizer.compliance_linear.copy()
+    targets = stabilizer.stabilize(DT, plan, _with_wrenches(state, measured))
+    moved = stabilizer.compliance_linear - before
+    assert moved[left, 2] == pytest.approx(100.0 / 1e4 * DT, rel=1e-6)
+    others = np.delete(np.arange(len(moved)), left)
+    np.testing.assert_allclose(moved[others], 0.0, atol=1e-9)
+    np.testing.assert_allclose(
+        targets.limb_position_world[left] - plan.limb_target_position_world[left],
+        stabilizer.compliance_linear[left],
+        atol=1e-12,
+    )
+
+
+def test_contact_damping_tilts_the_foot_with_the_moment_error(standing):
+    """Roll/pitch: K_d 100, K_s 0, K_f 1; yaw has K_f 0 (Table II)."""
+    stabilizer, plan = _stabilizer_and_plan(standing, ("left_foot", "right_foot"))
+    model, _, state = standing
+    left = model.robot.limb_names.index("left_foot")
+    desired = stabilizer.stabilize(0.0, plan, state).contact_wrench_desired_limb
+    measured = desired.copy()
+    measured[left, 3:] += [2.0, -3.0, 5.0]  # N m, sole frame (aligned with world here)
+    before = stabilizer.compliance_angular[left].copy()
+    stabilizer.stabilize(DT, plan, _with_wrenches(state, measured))
+    np.testing.assert_allclose(
+        stabilizer.compliance_angular[left] - before,
+        [2.0 / 100 * DT, -3.0 / 100 * DT, 0.0],
+        atol=1e-9,
+    )
+
+
+def test_free_limb_returns_with_the_spring(standing):
+    """Free phase: K_f 0, so Delta r decays as K_d dr/dt = -K_s Delta r: per period a factor
+    1 - dt K_s / K_d (linear 2250 / 300, angular 400 / 40)."""
+    stabilizer, plan = _stabilizer_and_plan(standing, ("left_foot",))
+    model, _, state = standing
+    right = model.robot.limb_names.index("right_foot")
+    stabilizer.compliance_linear[right] = [0.01, -0.02, 0.03]
+    stabilizer.compliance_angular[right] = [0.02, 0.0, -0.01]
+    stabilizer.stabilize(0.0, plan, state)
+    np.testing.assert_allclose(
+        stabilizer.compliance_linear[right], np.array([0.01, -0.02, 0.03]) * (1 - DT * 7.5)
+    )
+    np.testing.assert_allclose(
+        stabilizer.compliance_angular[right], np.array([0.02, 0.0, -0.01]) * (1 - DT * 10.0)
+    )
+
+
+def test_single_contact_uses_the_free_linear_parameters(standing):
+    """Table II's note: with one limb in contact its linear components take the non-contact
+    values (K_d 300, K_s 2250, K_f 0), so a force error does not move it."""
+    stabilizer, plan = _stabilizer_and_plan(standing, ("left_foot",))
+    model, _, state = standing
+    left = model.robot.limb_names.index("left_foot")
+    desired = stabilizer.stabilize(0.0, plan, state).contact_wrench_desired_limb
+    measured = desired.copy()
+    measured[left, 2] += 100.0
+    measured[left, 3] += 2.0
+    stabilizer.stabilize(DT, plan, _with_wrenches(state, measured))
+    np.testing.assert_allclose(stabilizer.compliance_linear[left], 0.0, atol=1e-12)
+    assert stabilizer.compliance_angular[left][0] > 0.0  # the moment still acts
+
+
+def test_distribution_reproduces_the_desired_wrench_when_feasible(standing):
+    """Eqs. 13-14: the limbs' desired wrenches sum to w^d (feasible here: standing), and each
+    foot carries half the weight when the CoM is centred."""
+    stabilizer, plan = _stabilizer_and_plan(standing, ("left_foot", "right_foot"))
+    model, _, state = standing
+    targets = stabilizer.stabilize(0.0, plan, state)
+    np.testing.assert_allclose(
+        targets.wrench_distributed_world, targets.wrench_desired_world, atol=1e-3
+    )
+    names = model.robot.limb_names
+    weight = model.robot.total_mass * 9.81
+    for foot in ("left_foot", "right_foot"):
+        fz = targets.contact_wrench_desired_limb[names.index(foot), 2]
+        assert fz == pytest.approx(weight / 2, rel=0.02)
