@@ -9,7 +9,8 @@
   0.05 m; 1.0 s of double support before the first step and 1.5 s after the last. Sized for the
   0.22 m feet and 0.36 m leg segments of the centrobench humanoid at scale 1 (scaled with it).
 - `walk_push`: `walk` with a lateral push to the torso in the middle of the 5th step's single
-  support; impulse [N s] (default 15) and direction [deg] (default 90: to the left).
+  support; impulse [N s] (default 10: the paper's pairs walk through it in both simulators,
+  15 falls) and direction [deg] (default 90: to the left).
 """
 
 from __future__ import annotations
@@ -117,7 +118,7 @@ def walk(
 def walk_push(
     model: RobotModel,
     duration: float | None = None,
-    push_impulse: float = 15.0,
+    push_impulse: float = 10.0,
     push_direction_deg: float = 90.0,
     push_step: int = 5,
     push_duration: float = 0.1,

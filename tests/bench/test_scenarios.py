@@ -53,3 +53,35 @@ def test_stand_push_direction_and_impulse(model, direction, expected):
 def test_bad_scenario_requests_are_rejected(model, name, kwargs, message):
     with pytest.raises((KeyError, ValueError), match=message):
         make_scenario(name, model, **kwargs)
+
+
+def test_walk_push_is_lateral_and_mid_single_support(model):
+    scenario = make_scenario("walk_push", model)
+    (push,) = scenario.pushes
+    assert push.link == model.robot.base_link
+    np.testing.assert_allclose(push.impulse_world, [0.0, 10.0, 0.0], atol=1e-12)  # defaults
+    middle = push.time + push.duration / 2
+    phase = scenario.phase_at(middle)
+    assert len(phase.contacts) == 1  # single support, the 5th of the walk
+    assert middle == pytest.approx((phase.start + phase.end) / 2)
+    singles = [p for p in scenario.phases if len(p.contacts) == 1]
+    assert singles.index(phase) == 4
+    walk = make_scenario("walk", model)
+    assert scenario.phases == walk.phases and scenario.duration == walk.duration
+
+
+def test_swing_foot_lands_without_vertical_speed(model):
+    """The clearance profile 64 s^3 (1 - s)^3: peak 0.05 m mid-swing, zero vertical velocity at
+    lift-off and touchdown (finite differences over 1 ms)."""
+    scenario = make_scenario("walk", model)
+    single = next(p for p in scenario.phases if len(p.contacts) == 1)
+    (support,) = single.limbs
+    swing = "right_foot" if support == "left_foot" else "left_foot"
+
+    def height(t):
+        return scenario.limb_pose(swing, t)[0][2]
+
+    start, end, h = single.start, single.end, 1e-3
+    assert height((start + end) / 2) == pytest.approx(0.05, abs=1e-12)
+    assert abs(height(start + h) - height(start)) / h < 1e-4
+    assert abs(height(end) - height(end - h)) / h < 1e-4

@@ -96,3 +96,14 @@ def test_reference_follows_the_contact_sequence():
         assert reference[int(t / 0.005), 2] == pytest.approx(feet[:, 2].mean() + 0.8)
         centre, _ = support_centre(scenario, t)
         np.testing.assert_allclose(centre, feet[:, :2].mean(axis=0))
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("run", RUNS, ids=RUN_IDS)
+@pytest.mark.parametrize("direction", [90.0, 270.0])
+def test_walks_through_a_lateral_push_mid_single_support(run, direction):
+    """`walk_push` at its default 10 N s (0.17 m/s for 58.4 kg), to either side."""
+    summary = run_episode(
+        EpisodeSpec(*run, "walk_push", push_impulse=10.0, push_direction_deg=direction)
+    ).summary
+    assert summary["status"] == "ok", summary["error"] or summary["fall_reason"]
