@@ -67,7 +67,8 @@ def test_walk_push_is_lateral_and_mid_single_support(model):
     singles = [p for p in scenario.phases if len(p.contacts) == 1]
     assert singles.index(phase) == 4
     walk = make_scenario("walk", model)
-    assert scenario.phases == walk.phases and scenario.duration == walk.duration
+    assert scenario.phases == walk.phases
+    assert scenario.duration == walk.duration
 
 
 def test_swing_foot_lands_without_vertical_speed(model):
