@@ -154,6 +154,7 @@ def run_episode(spec: EpisodeSpec) -> EpisodeResult:
         "com_error_rms_m": None,
         "projection_error": None,
         "zmp_margin_min_m": None,
+        "solver_failures": 0,
         "error": None,
     }
     trace = _Trace(0, ())
@@ -222,6 +223,7 @@ def run_episode(spec: EpisodeSpec) -> EpisodeResult:
             sensors = sim.step(command)
             timings["sim"] = time.perf_counter_ns() - start
 
+            summary["solver_failures"] = int(plan.solver_failures)
             _record(trace, t, state, plan, targets, timings)
             trace.put("zmp_margin_m", support.margin(plan))
             trace.n += 1

@@ -18,7 +18,13 @@ class Planner(Protocol):
 
 
 PLANNERS = Registry(
-    "planner", modules=("planners.hold", "planners.preview_control", "planners.preview_zmp")
+    "planner",
+    modules=(
+        "planners.hold",
+        "planners.preview_control",
+        "planners.preview_zmp",
+        "planners.linear_mpc",
+    ),
 )
 PlannerSpec = ComponentSpec
 register = PLANNERS.register

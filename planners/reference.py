@@ -2,7 +2,8 @@
 V-C): piecewise constant and synchronised with the contact switches.
 
 - Horizontal CoM: the centre of the supporting feet (the supporting foot in single support,
-  the middle of both in double support); the centre of all contacts when no foot is in contact.
+  the middle of both in double support); the centre of all contacts when no foot is in contact;
+  during a phase without any contact (a flight), the last supported phase's centre.
 - Vertical CoM: the mean height of the supporting feet plus a constant offset (the initial CoM
   height above the soles).
 - Base orientation: zero (level, yaw 0). Reference resultant force and moment: zero.
@@ -17,7 +18,13 @@ from robots.scene import Scenario
 
 def support_centre(scenario: Scenario, time: float) -> tuple[np.ndarray, float]:
     """Horizontal support centre (2,) [m] and mean support height [m] at `time`."""
-    contacts = scenario.phase_at(time).contacts
+    phase = scenario.phase_at(time)
+    if not phase.contacts:  # flight: hold the last supported phase's centre
+        earlier = [p for p in scenario.phases if p.end <= phase.start and p.contacts]
+        if not earlier:
+            raise ValueError(f"no contact at or before t = {time} s: no support reference")
+        return support_centre(scenario, earlier[-1].start)
+    contacts = phase.contacts
     feet = [c.position_world for c in contacts if c.limb.endswith("foot")] or [
         c.position_world for c in contacts
     ]

@@ -159,6 +159,9 @@ class CentroidalPlan:
     limb_tracked: np.ndarray | None = None
     """(n_limbs,) bool: limbs with a pose target (in contact, or moving between contacts). An
     untracked limb's target is ignored and the whole-body posture task holds it; None: all."""
+    solver_failures: int = 0
+    """How many periods so far the planner's optimisation failed and it fell back on its last
+    feasible plan (cumulative over the episode; always 0 for planners without a solver)."""
 
     def desired_state(self) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
         """(c^d, c'^d, base orientation^d, omega^d), falling back to the planned state."""

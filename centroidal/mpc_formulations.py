@@ -1,0 +1,244 @@
+"""The linear MPC of `centroidal.mpc` solved three ways, selectable by name (`FORMULATIONS`):
+qpsolvers (dense `dense:<solver>`, sparse `sparse:<solver>`), cvxpy with Parameters
+(`cvxpy:<SOLVER>`) and CasADi's `conic` (`casadi:<plugin>`). Each returns the stacked ridge
+forces lambda (per sample, unpadded) or raises `MpcSolverError`. Problems are built once
+where the tool allows (cvxpy, CasADi: fixed structure, every sample padded to `max_ridges`)
+and warm-started where it can (osqp through qpsolvers and cvxpy, from the previous solution).
+"""
+
+from __future__ import annotations
+
+from typing import Protocol
+
+import numpy as np
+import qpsolvers
+import scipy.sparse
+
+from centroidal.mpc import MpcModel, MpcProblem, MpcSolverError, condensed, sparse_form, split
+
+DENSE_SOLVERS = ("daqp", "proxqp", "quadprog")
+SPARSE_SOLVERS = ("osqp", "clarabel", "proxqp")
+CVXPY_SOLVERS = ("OSQP", "CLARABEL")
+CASADI_PLUGINS = ("osqp", "qpoases")
+FORMULATIONS = (
+    *(f"dense:{s}" for s in DENSE_SOLVERS),
+    *(f"sparse:{s}" for s in SPARSE_SOLVERS),
+    *(f"cvxpy:{s}" for s in CVXPY_SOLVERS),
+    *(f"casadi:{p}" for p in CASADI_PLUGINS),
+)
+DEFAULT_FORMULATION = "dense:daqp"
+
+_TOLERANCES = {
+    "osqp": {"eps_abs": 1e-7, "eps_rel": 1e-7, "polish": True, "max_iter": 20000},
+    "clarabel": {"tol_gap_abs": 1e-9, "tol_gap_rel": 1e-9, "tol_feas": 1e-9},
+    "proxqp": {"eps_abs": 1e-9, "eps_rel": 0.0},
+}
+
+
+class Formulation(Protocol):
+    name: str
+
+    def solve(self, problem: MpcProblem) -> np.ndarray: ...
+
+
+class DenseQpsolvers:
+    """Condensed QP in lambda through qpsolvers (dense matrices)."""
+
+    def __init__(self, model: MpcModel, solver: str, max_ridges: int) -> None:
+        self.model, self.solver, self.name = model, solver, f"dense:{solver}"
+
+    def solve(self, problem: MpcProblem) -> np.ndarray:
+        hessian, gradient = condensed(self.model, problem)
+        n = len(gradient)
+        upper = None if problem.upper is None else np.concatenate(problem.upper)
+        with np.errstate(all="ignore"):
+            solution = qpsolvers.solve_qp(
+                hessian,
+                gradient,
+                lb=np.zeros(n),
+                ub=upper,
+                solver=self.solver,
+                **_TOLERANCES.get(self.solver, {}),
+            )
+        if solution is None or not np.all(np.isfinite(solution)):
+            raise MpcSolverError(f"{self.name} found no solution")
+        return np.maximum(solution, 0.0)
+
+
+class SparseQpsolvers:
+    """Sparse QP in (lambda, u, x) through qpsolvers; osqp warm-started from the last z."""
+
+    def __init__(self, model: MpcModel, solver: str, max_ridges: int) -> None:
+        self.model, self.solver, self.name = model, solver, f"sparse:{solver}"
+        self._last: np.ndarray | None = None
+
+    def solve(self, problem: MpcProblem) -> np.ndarray:
+        p, q, a, b, lower, upper, offsets = sparse_form(self.model, problem)
+        initial = self._last if self._last is not None and len(self._last) == len(q) else None
+        with np.errstate(all="ignore"):
+            solution = qpsolvers.solve_qp(
+                p,
+                q,
+                A=a,
+                b=b,
+                lb=lower,
+                ub=upper,
+                solver=self.solver,
+                initvals=initial if self.solver == "osqp" else None,
+                **_TOLERANCES.get(self.solver, {}),
+            )
+        if solution is None or not np.all(np.isfinite(solution)):
+            self._last = None
+            raise MpcSolverError(f"{self.name} found no solution")
+        self._last = solution
+        return np.maximum(solution[: offsets[-1]], 0.0)
+
+
+class CvxpyFormulation:
+    """The padded sparse form as one cvxpy problem with Parameters (DPP), built once."""
+
+    def __init__(self, model: MpcModel, solver: str, max_ridges: int) -> None:
+        import cvxpy as cp
+
+        self.model, self.solver, self.name = model, solver, f"cvxpy:{solver}"
+        self.max_ridges = n_r = max_ridges
+        n = model.horizon
+        self.lam = cp.Variable((n, n_r))
+        self.u = cp.Variable((n, 6))
+        self.x = cp.Variable((n, 12))
+        self.maps = [cp.Parameter((6, n_r)) for _ in range(n)]
+        self.upper = cp.Parameter((n, n_r), nonneg=True)
+        self.x0 = cp.Parameter(12)
+        self.y_ref = cp.Parameter((n, 6))
+        m = model
+        constraints = [self.lam >= 0, self.lam <= self.upper]
+        for k in range(n):
+            constraints.append(self.u[k] == self.maps[k] @ self.lam[k])
+            previous = self.x0 if k == 0 else self.x[k - 1]
+            constraints.append(self.x[k] == m.a @ previous + m.b @ self.u[k] + m.e)
+        outputs = self.x @ m.c.T  # (n, 6)
+        cost = cp.sum(cp.multiply(np.tile(m.q_output, (n, 1)), cp.square(outputs - self.y_ref)))
+        cost += cp.sum(
+            cp.multiply(np.tile(m.r_input, (n, 1)), cp.square(self.u - m.u_reference[None, :]))
+        )
+        cost += m.weights.ridge * cp.sum_squares(self.lam)
+        self.problem = cp.Problem(cp.Minimize(cost), constraints)
+
+    def solve(self, problem: MpcProblem) -> np.ndarray:
+        n_r = self.max_ridges
+        upper = np.zeros((self.model.horizon, n_r))
+        for k, w in enumerate(problem.maps):
+            padded = np.zeros((6, n_r))
+            padded[:, : w.shape[1]] = w
+            self.maps[k].value = padded
+            upper[k, : w.shape[1]] = 1e6 if problem.upper is None else problem.upper[k]
+        self.upper.value = upper
+        self.x0.value = problem.x0
+        self.y_ref.value = problem.y_reference
+        options = (
+            {"eps_abs": 1e-6, "eps_rel": 1e-6, "polish": True, "max_iter": 200000}
+            if self.solver == "OSQP"
+            else {}
+        )
+        try:
+            self.problem.solve(solver=self.solver, warm_start=True, **options)
+        except Exception as exc:  # cvxpy raises SolverError on failure
+            raise MpcSolverError(f"{self.name}: {exc}") from exc
+        if self.lam.value is None or self.problem.status not in ("optimal", "optimal_inaccurate"):
+            raise MpcSolverError(f"{self.name} found no solution ({self.problem.status})")
+        return np.maximum(
+            np.concatenate([self.lam.value[k, :size] for k, size in enumerate(problem.sizes)]),
+            0.0,
+        )
+
+
+class CasadiFormulation:
+    """The padded sparse form as one `casadi.conic` (sparsity fixed at construction)."""
+
+    def __init__(self, model: MpcModel, plugin: str, max_ridges: int) -> None:
+        import casadi as ca
+
+        self.model, self.plugin, self.name = model, plugin, f"casadi:{plugin}"
+        self.max_ridges = max_ridges
+        n = model.horizon
+        dummy = MpcProblem([np.ones((6, max_ridges))] * n, np.zeros(12), np.zeros((n, 6)), None)
+        p, _, a, _, _, _, _ = sparse_form(model, dummy, pad_to=max_ridges)
+        self._p = ca.DM(_casadi_sparsity(ca, p), p.tocsc().data)
+        self._a_pattern = a.tocsc()
+        self._a_pattern.sort_indices()
+        options: dict = {"error_on_fail": False}
+        if plugin == "qpoases":
+            options.update(printLevel="none", sparse=True)
+        elif plugin == "osqp":
+            options["osqp"] = {
+                "verbose": False,
+                "eps_abs": 1e-7,
+                "eps_rel": 1e-7,
+                "polish": True,
+                "max_iter": 20000,
+            }
+            options["warm_start_primal"] = True
+        self.solver = ca.conic(
+            "mpc",
+            plugin,
+            {"h": _casadi_sparsity(ca, p), "a": _casadi_sparsity(ca, self._a_pattern)},
+            options,
+        )
+        self._ca = ca
+        self._last = None
+
+    def solve(self, problem: MpcProblem) -> np.ndarray:
+        ca = self._ca
+        _, q, a, b, lower, upper, offsets = sparse_form(self.model, problem, pad_to=self.max_ridges)
+        # same pattern as at construction: copy values into it
+        values = _values_on_pattern(a, self._a_pattern)
+        arguments = {
+            "h": self._p,
+            "g": q,
+            "a": ca.DM(_casadi_sparsity(ca, self._a_pattern), values),
+            "lba": b,
+            "uba": b,
+            "lbx": lower,
+            "ubx": np.minimum(upper, 1e20),
+        }
+        if self._last is not None:
+            arguments["x0"] = self._last
+        result = self.solver(**arguments)
+        if not self.solver.stats()["success"]:
+            self._last = None
+            raise MpcSolverError(f"{self.name} found no solution")
+        z = np.asarray(result["x"]).ravel()
+        self._last = z
+        return np.maximum(np.concatenate(split(z, problem.sizes, offsets)), 0.0)
+
+
+def _casadi_sparsity(ca, matrix: scipy.sparse.spmatrix):
+    m = matrix.tocsc()
+    m.sort_indices()
+    return ca.Sparsity(m.shape[0], m.shape[1], m.indptr.tolist(), m.indices.tolist())
+
+
+def _values_on_pattern(matrix: scipy.sparse.spmatrix, pattern: scipy.sparse.csc_matrix):
+    """The entries of `matrix` at `pattern`'s nonzeros (zeros where `matrix` has none)."""
+    m = matrix.tocsc()
+    rows = pattern.indices
+    cols = np.repeat(np.arange(pattern.shape[1]), np.diff(pattern.indptr))
+    return np.asarray(m[rows, cols]).ravel()
+
+
+_CLASSES = {
+    "dense": DenseQpsolvers,
+    "sparse": SparseQpsolvers,
+    "cvxpy": CvxpyFormulation,
+    "casadi": CasadiFormulation,
+}
+
+
+def make_formulation(name: str, model: MpcModel, max_ridges: int) -> Formulation:
+    """A formulation by name (one of `FORMULATIONS`); KeyError naming the valid ones."""
+    if name not in FORMULATIONS:
+        raise KeyError(
+            f"unknown MPC formulation {name!r}; choose one of: {', '.join(FORMULATIONS)}"
+        )
+    kind, solver = name.split(":")
+    return _CLASSES[kind](model, solver, max_ridges)

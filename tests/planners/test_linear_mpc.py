@@ -1,0 +1,160 @@
+"""linear_mpc: the QP against an independent Riccati solution, the formulations against each
+other, feasibility of the planned wrench, failures as data."""
+
+from dataclasses import replace
+
+import numpy as np
+import pytest
+
+from bench.scenarios import make_scenario
+from centroidal.contacts import contact_set
+from centroidal.mpc import MpcModel, MpcProblem, MpcWeights, condensed, split
+from centroidal.mpc_formulations import FORMULATIONS, make_formulation
+from centroidal.rotations import to_matrix
+from planners.linear_mpc import LinearMpcPlanner
+from robots.humanoid import humanoid
+from robots.limbs import limb_surfaces
+from robots.model import RobotModel
+from robots.scene import ContactPhase, Scenario
+
+
+@pytest.fixture(scope="module")
+def model():
+    return RobotModel(humanoid())
+
+
+def _state(model, com_offset=(0.0, 0.0, 0.0), velocity=(0.0, 0.0, 0.0)):
+    state = model.standing_state()
+    return replace(
+        state,
+        com_position_world=model.com_position_world(state) + np.array(com_offset),
+        com_velocity_world=np.array(velocity, dtype=float),
+    )
+
+
+def _problem(model, scenario, t, horizon, x0, dtau=0.1, weights=None):
+    """The MPC problem at time t built the planner's way (contacts per sample, c-hat = ref)."""
+    robot = model.robot
+    inertia = np.diag(model.constant_inertia())
+    mpc = MpcModel(robot.total_mass, inertia, dtau, horizon, weights)
+    surfaces = limb_surfaces(robot, scenario.scene.friction)
+    generators = []
+    for k in range(horizon):
+        phase = scenario.phase_at(t + k * dtau)
+        generators.append(
+            contact_set(
+                [c.limb for c in phase.contacts],
+                [surfaces[c.limb] for c in phase.contacts],
+                [np.asarray(c.position_world) for c in phase.contacts],
+                [to_matrix(c.orientation_world) for c in phase.contacts],
+            ).matrix
+        )
+    points = np.tile(x0[:3], (horizon, 1))
+    y_reference = np.zeros((horizon, 6))
+    y_reference[:, :3] = x0[:3]
+    return mpc, MpcProblem(mpc.wrench_maps(generators, points), x0, y_reference)
+
+
+def _riccati_first_input(mpc: MpcModel, problem: MpcProblem) -> np.ndarray:
+    """lambda_0 of the unconstrained problem by a backward Riccati recursion on the augmented
+    state z = [x; 1] (time-varying input matrices B W_k): independent of the condensed QP."""
+    n = mpc.horizon
+    a_bar = np.zeros((13, 13))
+    a_bar[:12, :12], a_bar[:12, 12], a_bar[12, 12] = mpc.a, mpc.e, 1.0
+    q_out, r_in, u_ref = np.diag(mpc.q_output), np.diag(mpc.r_input), mpc.u_reference
+    p_next = np.zeros((13, 13))
+    gain_0 = None
+    for k in reversed(range(n)):
+        w = problem.maps[k]
+        b_bar = np.zeros((13, w.shape[1]))
+        b_bar[:12] = mpc.b @ w
+        selector = np.zeros((6, 13))
+        selector[:, :12], selector[:, 12] = mpc.c, -problem.y_reference[k]
+        p_prime = p_next + selector.T @ q_out @ selector  # output cost on x_{k+1}
+        e13 = np.zeros(13)
+        e13[12] = 1.0
+        cross = b_bar.T @ p_prime @ a_bar - np.outer(w.T @ r_in @ u_ref, e13)
+        curvature = (
+            b_bar.T @ p_prime @ b_bar + w.T @ r_in @ w + mpc.weights.ridge * np.eye(w.shape[1])
+        )
+        gain = np.linalg.solve(curvature, cross)
+        p_next = (
+            a_bar.T @ p_prime @ a_bar + (u_ref @ r_in @ u_ref) * np.outer(e13, e13) - cross.T @ gain
+        )
+        gain_0 = gain
+    z0 = np.r_[problem.x0, 1.0]
+    return -gain_0 @ z0
+
+
+def test_unconstrained_first_input_equals_the_riccati_solution(model):
+    """Standing on both feet, CoM 5 mm off its reference and moving: no ridge force reaches its
+    bound, so the QP's first input is the unconstrained LQ optimum."""
+    scenario = make_scenario("stand", model)
+    state = _state(model, com_offset=(0.005, -0.003, 0.0), velocity=(0.02, 0.0, 0.0))
+    x0 = np.r_[state.com_position_world, state.com_velocity_world, np.zeros(6)]
+    x0_ref = x0.copy()
+    x0_ref[:3] -= [0.005, -0.003, 0.0]
+    mpc, problem = _problem(model, scenario, 0.0, 10, x0, weights=MpcWeights(ridge=1e-3))
+    problem.y_reference[:, :3] = x0_ref[:3]
+    lambdas = split(make_formulation("dense:daqp", mpc, 32).solve(problem), problem.sizes)
+    assert min(lam.min() for lam in lambdas) > 1e-3  # no bound active
+    expected = _riccati_first_input(mpc, problem)
+    np.testing.assert_allclose(lambdas[0], expected, rtol=1e-6, atol=1e-6)
+    # and the same from the condensed system solved directly
+    hessian, gradient = condensed(mpc, problem)
+    direct = np.linalg.solve(hessian, -gradient)
+    np.testing.assert_allclose(lambdas[0], direct[: problem.sizes[0]], rtol=1e-6, atol=1e-6)
+
+
+@pytest.fixture(scope="module")
+def walking_problem(model):
+    """A problem across a contact switch: 6 samples of 0.1 s from t = 0.95 s of `walk`
+    (double support, then the first single support), CoM 1 cm behind its reference."""
+    scenario = make_scenario("walk", model)
+    state = _state(model, com_offset=(-0.01, 0.0, 0.0))
+    x0 = np.r_[state.com_position_world, state.com_velocity_world, np.zeros(6)]
+    mpc, problem = _problem(model, scenario, 0.95, 6, x0)
+    problem.y_reference[:, 1] = np.linspace(0.0, 0.06, 6)  # shift toward the support foot
+    return mpc, problem
+
+
+@pytest.mark.parametrize("name", FORMULATIONS)
+def test_formulations_agree(walking_problem, name):
+    mpc, problem = walking_problem
+    reference = split(make_formulation("dense:quadprog", mpc, 32).solve(problem), problem.sizes)
+    lambdas = split(make_formulation(name, mpc, 32).solve(problem), problem.sizes)
+    assert len({len(x) for x in lambdas}) == 2  # the horizon crosses a contact switch
+    for k in range(mpc.horizon):
+        w_ref = problem.maps[k] @ reference[k]
+        w = problem.maps[k] @ lambdas[k]
+        np.testing.assert_allclose(w[:3], w_ref[:3], atol=0.05)  # N, of ~570 N
+        np.testing.assert_allclose(w[3:], w_ref[3:], atol=0.05)  # N m
+
+
+def test_no_support_is_a_recorded_failure_with_a_fallback(model):
+    """A flight phase (no contact) in the middle of standing: the periods whose first sample
+    has no contact fail, are counted, and plan the last feasible wrench; no exception."""
+    stand = make_scenario("stand", model)
+    (phase,) = stand.phases
+    scenario = Scenario(
+        "flight",
+        1.0,
+        stand.scene,
+        (
+            ContactPhase(0.0, 0.3, phase.contacts),
+            ContactPhase(0.3, 0.5, ()),
+            ContactPhase(0.5, 1.0, phase.contacts),
+        ),
+        stand.initial_posture,
+    )
+    planner = LinearMpcPlanner(0.002, horizon=5)
+    state = _state(model)
+    planner.reset(model, scenario, state)
+    plans = [planner.plan(k * 0.002, state) for k in range(300)]
+    failures = [p.solver_failures for p in plans]
+    assert failures[149] == 0  # t < 0.3 s: supported
+    assert failures[249] == 100  # every period of the flight, t in [0.3, 0.5)
+    assert failures[-1] == 100  # solving resumes once the feet are back
+    assert "no contact" in planner.last_error
+    assert all(np.all(np.isfinite(p.wrench_planned_world)) for p in plans)
+    assert all(np.all(np.isfinite(p.com_planned_world)) for p in plans)
