@@ -124,6 +124,40 @@ def build_parser() -> argparse.ArgumentParser:
 
     commands.add_parser("list", help="the registered planners, stabilizers, scenarios, sims")
 
+    compare = commands.add_parser(
+        "compare",
+        help="Murooka Sec. V-G: planners side by side (projection errors, feedback, timing)",
+    )
+    compare.add_argument(
+        "--planners",
+        required=True,
+        type=lambda text: [n.strip() for n in text.split(",") if n.strip()],
+        help="comma-separated planner names, e.g. preview_control,linear_mpc",
+    )
+    compare.add_argument("--scenario", default="walk", help="a scenario name (default walk)")
+    compare.add_argument(
+        "--sims",
+        type=_simulator_names,
+        default=list(SIMULATORS),
+        help="mujoco, pybullet, a comma-separated list or all (default: all)",
+    )
+    compare.add_argument(
+        "--stabilizer", default="centroidal_feedback", help="default centroidal_feedback"
+    )
+    compare.add_argument(
+        "--horizons",
+        type=lambda text: [int(n) for n in text.split(",")],
+        default=None,
+        help="also time linear_mpc's update for these horizon lengths, e.g. 10,20,40,80",
+    )
+    compare.add_argument(
+        "--formulations",
+        type=lambda text: [n.strip() for n in text.split(",")],
+        default=None,
+        help="formulations for --horizons (default: all)",
+    )
+    compare.add_argument("--out", default=None, help="also write the table(s) to FILE.csv")
+
     demo = commands.add_parser(
         "demo", help="load the robot in each simulator, hold the standing posture, summarise"
     )
@@ -187,6 +221,68 @@ def _validate_names(args: argparse.Namespace) -> None:
         raise UsageError(
             f"unknown estimator {args.estimator!r}; choose one of: {', '.join(ESTIMATORS)}"
         )
+
+
+def _compare(args: argparse.Namespace) -> int:
+    from bench.compare import compare, horizon_timing
+    from bench.scenarios import SCENARIOS
+    from centroidal.mpc_formulations import FORMULATIONS
+    from planners.base import planner_spec
+    from stabilizers.base import stabilizer_spec
+
+    for name in args.planners:
+        planner_spec(name)
+    stabilizer_spec(args.stabilizer)
+    if args.scenario not in SCENARIOS:
+        raise UsageError(
+            f"unknown scenario {args.scenario!r}; choose one of: {', '.join(SCENARIOS)}"
+        )
+    formulations = args.formulations or list(FORMULATIONS)
+    for name in formulations:
+        if name not in FORMULATIONS:
+            raise UsageError(
+                f"unknown formulation {name!r}; choose one of: {', '.join(FORMULATIONS)}"
+            )
+    if args.horizons is not None and any(h < 1 for h in args.horizons):
+        raise UsageError(f"--horizons must be positive sample counts, got {args.horizons}")
+    n = len(args.planners) * len(args.sims)
+    print(f"running {n} episodes ({args.scenario}) ...", file=sys.stderr, flush=True)
+    done = []
+
+    def progress(row: dict) -> None:
+        done.append(row)
+        print(
+            f"  [{len(done)}/{n}] {row['planner']} on {row['sim']}: {row['status']}",
+            file=sys.stderr,
+            flush=True,
+        )
+
+    table = compare(args.planners, args.scenario, args.sims, args.stabilizer, progress=progress)
+    with pd_options():
+        print(table.drop(columns=["error"]).to_string(index=False, float_format="%.4g"))
+    failed = table[table["status"] != "ok"]
+    for _, row in failed.iterrows():
+        print(f"{row['planner']} on {row['sim']}: {row['status']}: {row['error']}")
+    if args.out:
+        table.to_csv(args.out, index=False)
+    if args.horizons:
+        timing = horizon_timing(formulations, args.horizons)
+        print()
+        with pd_options():
+            print(
+                timing.pivot(
+                    index="formulation", columns="horizon_samples", values="median_ms"
+                ).to_string(float_format="%.2f")
+            )
+        if args.out:
+            timing.to_csv(args.out.replace(".csv", "") + "_horizons.csv", index=False)
+    return 0
+
+
+def pd_options():
+    import pandas as pd
+
+    return pd.option_context("display.width", 200, "display.max_columns", 30)
 
 
 def _run(args: argparse.Namespace) -> int:
@@ -311,7 +407,13 @@ def main(argv: Sequence[str] | None = None) -> int:
         if args.command is None:
             parser.print_help()
             return 0
-        commands = {"robot": _robot, "demo": _demo, "run": _run, "list": _list}
+        commands = {
+            "robot": _robot,
+            "demo": _demo,
+            "run": _run,
+            "list": _list,
+            "compare": _compare,
+        }
         return commands[args.command](args)
     except (UsageError, MissingDependencyError, ValueError, KeyError) as exc:
         message = exc.args[0] if exc.args else str(exc)

@@ -158,3 +158,17 @@ def test_no_support_is_a_recorded_failure_with_a_fallback(model):
     assert "no contact" in planner.last_error
     assert all(np.all(np.isfinite(p.wrench_planned_world)) for p in plans)
     assert all(np.all(np.isfinite(p.com_planned_world)) for p in plans)
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("sim", ["mujoco", "pybullet"])
+def test_linear_mpc_walks_ten_steps(sim):
+    from bench.runner import EpisodeSpec, run_episode
+
+    summary = run_episode(EpisodeSpec("linear_mpc", "centroidal_feedback", sim, "walk")).summary
+    assert summary["status"] == "ok", summary["error"] or summary["fall_reason"]
+    assert summary["solver_failures"] == 0
+    # feasible by construction: the projection of the planned wrench changes nothing
+    assert summary["projection_error"]["planned_force_N"] < 1e-3
+    assert summary["projection_error"]["planned_moment_Nm"] < 1e-3
+    assert summary["zmp_margin_min_m"] > 0.0

@@ -1,0 +1,146 @@
+"""Murooka et al. 2022's comparison of planners (Sec. V-E, V-G) as pandas tables.
+
+`compare` runs each planner (with one stabilizer) on a scenario in each simulator and returns
+one row per planner x simulator: the mean planned and desired projection errors (Sec. V-G), the
+mean feedback wrench ||w-bar^d - w-bar^p'|| (eq. 12's Delta w-bar^d), the CoM tracking error,
+the planner's per-update compute time (median, p99) and its horizon in samples.
+`horizon_timing` measures the linear MPC's update time against its horizon length for each
+formulation and solver (Sec. V-E: Audren's MPC takes 20 ms for 20 samples).
+"""
+
+from __future__ import annotations
+
+import os
+import time
+from collections.abc import Callable, Sequence
+from concurrent.futures import ProcessPoolExecutor
+
+import numpy as np
+import pandas as pd
+
+from bench.runner import AXES, EpisodeSpec, run_episode
+
+COMPARISON_COLUMNS = (
+    "planner",
+    "sim",
+    "status",
+    "planned_force_N",
+    "planned_moment_Nm",
+    "desired_force_N",
+    "desired_moment_Nm",
+    "feedback_force_N",
+    "feedback_moment_Nm",
+    "com_error_rms_mm",
+    "update_median_us",
+    "update_p99_us",
+    "horizon_samples",
+    "solver_failures",
+)
+
+
+def _horizon_samples(planner: str) -> int | None:
+    from planners.base import planner_spec
+
+    return getattr(planner_spec(planner).factory(0.002), "horizon", None)
+
+
+def _row(spec: EpisodeSpec) -> dict:
+    result = run_episode(spec)
+    summary, trace = result.summary, result.trace
+    errors = summary["projection_error"] or {}
+    row = {
+        "planner": spec.planner,
+        "sim": spec.sim,
+        "status": summary["status"],
+        **{k: errors.get(k) for k in COMPARISON_COLUMNS[3:7]},
+        "com_error_rms_mm": None
+        if summary["com_error_rms_m"] is None
+        else 1e3 * summary["com_error_rms_m"],
+        "horizon_samples": _horizon_samples(spec.planner),
+        "solver_failures": summary["solver_failures"],
+        "error": summary["error"] or summary["fall_reason"],
+    }
+    desired = [f"wrench_desired_{a}" for a in AXES]
+    projected = [f"wrench_projected_{a}" for a in AXES]
+    if set(desired) <= set(trace.columns):
+        feedback = trace[desired].to_numpy() - trace[projected].to_numpy()
+        row["feedback_force_N"] = float(np.mean(np.linalg.norm(feedback[:, :3], axis=1)))
+        row["feedback_moment_Nm"] = float(np.mean(np.linalg.norm(feedback[:, 3:], axis=1)))
+    update = summary["latency_us"].get("planner", {})
+    row["update_median_us"] = update.get("median")
+    row["update_p99_us"] = update.get("p99")
+    return row
+
+
+def compare(
+    planners: Sequence[str],
+    scenario: str,
+    sims: Sequence[str],
+    stabilizer: str = "centroidal_feedback",
+    workers: int | None = None,
+    progress: Callable[[dict], None] | None = None,
+    duration: float | None = None,
+) -> pd.DataFrame:
+    """One episode per planner x simulator (in parallel processes), as a DataFrame with the
+    columns of `COMPARISON_COLUMNS` plus `error`. A failed episode is a row with its status.
+    `duration` [s] shortens the scenario (None: its own)."""
+    specs = [
+        EpisodeSpec(p, stabilizer, s, scenario, duration=duration) for p in planners for s in sims
+    ]
+    workers = workers or min(len(specs), os.cpu_count() or 1)
+    rows = []
+    with ProcessPoolExecutor(workers) as pool:
+        for row in pool.map(_row, specs):
+            rows.append(row)
+            if progress is not None:
+                progress(row)
+    return pd.DataFrame(rows, columns=[*COMPARISON_COLUMNS, "error"])
+
+
+def horizon_timing(
+    formulations: Sequence[str],
+    horizons: Sequence[int] = (10, 20, 40, 80),
+    updates: int = 20,
+    scenario: str = "walk",
+    start_time: float = 0.9,
+) -> pd.DataFrame:
+    """Median and p99 [ms] of `linear_mpc`'s update (planner call) per formulation and horizon
+    length, over `updates` consecutive periods from `start_time` on `scenario` with the robot's
+    standing state (no simulator): rows formulation x horizon."""
+    from dataclasses import replace
+
+    from bench.scenarios import make_scenario
+    from planners.linear_mpc import LinearMpcPlanner
+    from robots.humanoid import humanoid
+    from robots.model import RobotModel
+
+    model = RobotModel(humanoid())
+    setting = make_scenario(scenario, model)
+    state = model.standing_state()
+    state = replace(
+        state,
+        com_position_world=model.com_position_world(state),
+        com_velocity_world=np.zeros(3),
+    )
+    rows = []
+    for name in formulations:
+        for horizon in horizons:
+            planner = LinearMpcPlanner(0.002, formulation=name, horizon=horizon)
+            planner.reset(model, setting, state)
+            times = []
+            for k in range(updates + 1):
+                t = start_time + k * 0.002
+                begin = time.perf_counter()
+                planner.plan(t, state)
+                if k:  # the first call builds caches
+                    times.append(1e3 * (time.perf_counter() - begin))
+            rows.append(
+                {
+                    "formulation": name,
+                    "horizon_samples": horizon,
+                    "median_ms": float(np.median(times)),
+                    "p99_ms": float(np.percentile(times, 99)),
+                    "solver_failures": planner.solver_failures,
+                }
+            )
+    return pd.DataFrame(rows)

@@ -1,0 +1,69 @@
+"""The Sec. V-G comparison table and the MPC horizon timing."""
+
+import numpy as np
+import pytest
+
+from bench.cli import main
+from bench.compare import COMPARISON_COLUMNS, compare, horizon_timing
+from bench.runner import EpisodeSpec, run_episode
+
+
+@pytest.fixture(scope="module")
+def table():
+    return compare(["hold", "preview_control"], "stand", ["mujoco"], duration=0.4, workers=1)
+
+
+def test_one_row_per_planner_and_simulator(table):
+    assert list(table.columns) == [*COMPARISON_COLUMNS, "error"]
+    assert table[["planner", "sim"]].values.tolist() == [
+        ["hold", "mujoco"],
+        ["preview_control", "mujoco"],
+    ]
+    assert (table["status"] == "ok").all()
+    assert table["horizon_samples"].tolist()[1] == 400  # Table I: 2 s at 5 ms
+
+
+def test_numbers_are_the_episode_summary(table):
+    """The table's columns equal what one episode's summary and trace give directly."""
+    result = run_episode(
+        EpisodeSpec("preview_control", "centroidal_feedback", "mujoco", "stand", duration=0.4)
+    )
+    row = table.iloc[1]
+    errors = result.summary["projection_error"]
+    for key in ("planned_force_N", "planned_moment_Nm", "desired_force_N", "desired_moment_Nm"):
+        assert row[key] == pytest.approx(errors[key], rel=1e-9, abs=1e-12)
+    assert row["com_error_rms_mm"] == pytest.approx(1e3 * result.summary["com_error_rms_m"])
+    trace = result.trace
+    feedback = trace["wrench_desired_fz"] - trace["wrench_projected_fz"]
+    assert row["feedback_force_N"] >= np.mean(np.abs(feedback)) - 1e-9  # norm >= |z part|
+
+
+def test_horizon_timing_rows():
+    timing = horizon_timing(["dense:daqp", "sparse:clarabel"], [3, 6], updates=3)
+    assert timing[["formulation", "horizon_samples"]].values.tolist() == [
+        ["dense:daqp", 3],
+        ["dense:daqp", 6],
+        ["sparse:clarabel", 3],
+        ["sparse:clarabel", 6],
+    ]
+    assert (timing["solver_failures"] == 0).all()
+    assert (timing["median_ms"] > 0).all()
+
+
+@pytest.mark.parametrize(
+    ("argv", "message"),
+    [
+        (["compare", "--planners", "nope"], "unknown planner 'nope'"),
+        (["compare", "--planners", "hold", "--scenario", "x"], "unknown scenario 'x'"),
+        (
+            ["compare", "--planners", "hold", "--horizons", "20", "--formulations", "dense:x"],
+            "unknown formulation 'dense:x'",
+        ),
+        (["compare", "--planners", "hold", "--horizons", "0"], "--horizons must be positive"),
+    ],
+)
+def test_bad_compare_requests_fail_with_one_line(argv, message, capsys):
+    assert main(argv) == 2
+    err = capsys.readouterr().err
+    assert message in err
+    assert len(err.strip().splitlines()) == 1
