@@ -258,7 +258,7 @@ def _compare(args: argparse.Namespace) -> int:
         )
 
     table = compare(args.planners, args.scenario, args.sims, args.stabilizer, progress=progress)
-    with pd_options():
+    with _pd_options():
         print(table.drop(columns=["error"]).to_string(index=False, float_format="%.4g"))
     failed = table[table["status"] != "ok"]
     for _, row in failed.iterrows():
@@ -268,7 +268,7 @@ def _compare(args: argparse.Namespace) -> int:
     if args.horizons:
         timing = horizon_timing(formulations, args.horizons)
         print()
-        with pd_options():
+        with _pd_options():
             print(
                 timing.pivot(
                     index="formulation", columns="horizon_samples", values="median_ms"
@@ -279,7 +279,7 @@ def _compare(args: argparse.Namespace) -> int:
     return 0
 
 
-def pd_options():
+def _pd_options():
     import pandas as pd
 
     return pd.option_context("display.width", 200, "display.max_columns", 30)

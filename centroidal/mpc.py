@@ -41,6 +41,8 @@ import numpy as np
 import scipy.linalg
 import scipy.sparse
 
+from centroidal.wrench import cross
+
 GRAVITY = 9.81
 
 
@@ -113,22 +115,39 @@ class MpcModel:
         q = np.tile(self.q_output, n)
         self.middle = self.phi.T @ (q[:, None] * self.phi) + np.diag(np.tile(self.r_input, n))
         self.q_stacked = q
+        self._sparse_constants = None
+
+    def sparse_constants(self):
+        """The parts of the sparse form that do not change between periods, built on first
+        use: its Hessian block and dynamics rows over (u, x), and the gradient over u."""
+        if self._sparse_constants is None:
+            n = self.horizon
+            q_x = self.c.T @ np.diag(self.q_output) @ self.c
+            hessian = scipy.sparse.block_diag(
+                [
+                    scipy.sparse.diags(np.tile(2.0 * self.r_input, n)),
+                    scipy.sparse.kron(scipy.sparse.identity(n), 2.0 * q_x),
+                ],
+                format="csc",
+            )
+            dynamics = scipy.sparse.lil_matrix((12 * n, 18 * n))
+            for k in range(n):
+                rows = slice(12 * k, 12 * k + 12)
+                x_col = 6 * n + 12 * k
+                dynamics[rows, x_col : x_col + 12] = np.eye(12)
+                dynamics[rows, 6 * k : 6 * k + 6] = -self.b
+                if k > 0:
+                    dynamics[rows, x_col - 12 : x_col] = -self.a
+            gradient_u = np.tile(-2.0 * self.r_input * self.u_reference, n)
+            self._sparse_constants = (hessian, dynamics.tocsc(), gradient_u)
+        return self._sparse_constants
 
     def wrench_maps(self, generators: list[np.ndarray], points: np.ndarray) -> list[np.ndarray]:
         """W_k (6, n_k) from each sample's G_k (moments about the origin) and c-hat_k."""
-        maps = []
-        for g, point in zip(generators, points, strict=True):
-            force, moment = g[:3], g[3:]
-            px, py, pz = point
-            about = moment - np.array(
-                [
-                    py * force[2] - pz * force[1],
-                    pz * force[0] - px * force[2],
-                    px * force[1] - py * force[0],
-                ]
-            )
-            maps.append(np.vstack([force, about]))
-        return maps
+        return [
+            np.vstack([g[:3], g[3:] - cross(point, g[:3].T).T])
+            for g, point in zip(generators, points, strict=True)
+        ]
 
     def predict(self, x0: np.ndarray, inputs: np.ndarray) -> np.ndarray:
         """States x_1..x_N (N, 12) for inputs u_0..u_{N-1} (N, 6)."""
@@ -170,7 +189,7 @@ def condensed(model: MpcModel, problem: MpcProblem) -> tuple[np.ndarray, np.ndar
     hessian = np.empty((n, n))
     for k, w in enumerate(problem.maps):
         hessian[offsets[k] : offsets[k + 1]] = w.T @ middle_times_w[6 * k : 6 * k + 6]
-    hessian = 2.0 * (hessian + hessian.T) / 2.0
+    hessian = hessian + hessian.T  # 2 W^T M W, symmetrised
     hessian[np.diag_indices(n)] += 2.0 * model.weights.ridge
     free = model.psi @ problem.x0 + model.y_gravity - problem.y_reference.ravel()
     linear = model.phi.T @ (model.q_stacked * free) - np.tile(
@@ -180,12 +199,6 @@ def condensed(model: MpcModel, problem: MpcProblem) -> tuple[np.ndarray, np.ndar
         [2.0 * w.T @ linear[6 * k : 6 * k + 6] for k, w in enumerate(problem.maps)]
     )
     return hessian, gradient
-
-
-def _upper_bounds(problem: MpcProblem) -> np.ndarray | None:
-    if problem.upper is None:
-        return None
-    return np.concatenate(problem.upper)
 
 
 def sparse_form(model: MpcModel, problem: MpcProblem, pad_to: int | None = None):
@@ -198,23 +211,14 @@ def sparse_form(model: MpcModel, problem: MpcProblem, pad_to: int | None = None)
     n_lambda = int(offsets[-1])
     n_u, n_x = 6 * n_samples, 12 * n_samples
     n_z = n_lambda + n_u + n_x
-    w = model.weights
-    q_x = model.c.T @ np.diag(model.q_output) @ model.c
+    hessian_ux, dynamics_ux, gradient_u = model.sparse_constants()
     hessian = scipy.sparse.block_diag(
-        [
-            scipy.sparse.diags(np.full(n_lambda, 2.0 * w.ridge)),
-            scipy.sparse.diags(np.tile(2.0 * model.r_input, n_samples)),
-            scipy.sparse.kron(scipy.sparse.identity(n_samples), 2.0 * q_x),
-        ],
+        [scipy.sparse.diags(np.full(n_lambda, 2.0 * model.weights.ridge)), hessian_ux],
         format="csc",
     )
     gradient = np.zeros(n_z)
-    gradient[n_lambda : n_lambda + n_u] = np.tile(
-        -2.0 * model.r_input * model.u_reference, n_samples
-    )
-    for k in range(n_samples):
-        start = n_lambda + n_u + 12 * k
-        gradient[start : start + 12] = -2.0 * model.c.T @ (model.q_output * problem.y_reference[k])
+    gradient[n_lambda : n_lambda + n_u] = gradient_u
+    gradient[n_lambda + n_u :] = (-2.0 * (problem.y_reference * model.q_output) @ model.c).ravel()
     # u_k - W_k lambda_k = 0
     rows, cols, values = [], [], []
     for k, m in enumerate(problem.maps):
@@ -231,18 +235,13 @@ def sparse_form(model: MpcModel, problem: MpcProblem, pad_to: int | None = None)
     coupling = scipy.sparse.csc_matrix(
         (np.concatenate(values), (np.concatenate(rows), np.concatenate(cols))), shape=(n_u, n_z)
     )
-    # x_{k+1} - A x_k - B u_k = e (x_0 known: x_1 - B u_0 = A x0 + e)
-    dynamics = scipy.sparse.lil_matrix((n_x, n_z))
-    for k in range(n_samples):
-        rows_k = slice(12 * k, 12 * k + 12)
-        x_col = n_lambda + n_u + 12 * k
-        dynamics[rows_k, x_col : x_col + 12] = np.eye(12)
-        dynamics[rows_k, n_lambda + 6 * k : n_lambda + 6 * k + 6] = -model.b
-        if k > 0:
-            dynamics[rows_k, x_col - 12 : x_col] = -model.a
+    # x_{k+1} - A x_k - B u_k = e (x_0 known: x_1 - B u_0 = A x0 + e); no lambda in it
+    dynamics = scipy.sparse.hstack(
+        [scipy.sparse.csc_matrix((n_x, n_lambda)), dynamics_ux], format="csc"
+    )
     right = np.tile(model.e, n_samples)
     right[:12] += model.a @ problem.x0
-    equality = scipy.sparse.vstack([coupling, dynamics.tocsc()], format="csc")
+    equality = scipy.sparse.vstack([coupling, dynamics], format="csc")
     b_eq = np.concatenate([np.zeros(n_u), right])
     lower = np.full(n_z, -np.inf)
     upper = np.full(n_z, np.inf)

@@ -115,7 +115,6 @@ class TripleIntegratorPreview:
         self, gains: PreviewGains | Sequence[PreviewGains], control_dt: float, n_axes: int = 1
     ) -> None:
         per_axis = list(gains) if isinstance(gains, Sequence) else [gains] * n_axes
-        self.gains = per_axis[0]
         self.feedback = np.array([g.feedback for g in per_axis])  # (axes, 3)
         self.feedforward = np.array([g.feedforward for g in per_axis])  # (axes, Nh, outputs)
         self._position_feedforward = np.ascontiguousarray(self.feedforward[:, :, 0])

@@ -71,14 +71,19 @@ def log(rotation: np.ndarray) -> np.ndarray:
     return angle / np.sin(angle) * axis_times_sin
 
 
+def skew(v: np.ndarray) -> np.ndarray:
+    """[v]x (3, 3), so that [v]x u = v x u."""
+    x, y, z = v
+    return np.array([[0.0, -z, y], [z, 0.0, -x], [-y, x, 0.0]])
+
+
 def exp(rotation_vector: np.ndarray) -> np.ndarray:
     """Rotation matrix of a rotation vector [rad] (Rodrigues' formula)."""
     angle = float(np.linalg.norm(rotation_vector))
-    x, y, z = rotation_vector
-    skew = np.array([[0.0, -z, y], [z, 0.0, -x], [-y, x, 0.0]])
+    k = skew(rotation_vector)
     if angle < 1e-9:
-        return np.eye(3) + skew
-    return np.eye(3) + np.sin(angle) / angle * skew + (1 - np.cos(angle)) / angle**2 * skew @ skew
+        return np.eye(3) + k
+    return np.eye(3) + np.sin(angle) / angle * k + (1 - np.cos(angle)) / angle**2 * k @ k
 
 
 def rotation_error(target: np.ndarray, actual: np.ndarray) -> np.ndarray:

@@ -28,7 +28,6 @@ import time
 
 import numpy as np
 
-from centroidal.contacts import contact_set
 from centroidal.mpc import GRAVITY, MpcModel, MpcProblem, MpcSolverError, MpcWeights, split
 from centroidal.mpc_formulations import DEFAULT_FORMULATION, make_formulation
 from centroidal.projection import DEFAULT_BACKEND, WrenchProjector, project_resultant
@@ -36,7 +35,7 @@ from centroidal.rotations import exp, from_matrix, log, to_matrix
 from centroidal.wrench import cross, zmp_on_plane
 from planners.base import PlannerSpec, register
 from planners.reference import com_reference, support_centre
-from robots.limbs import limb_surfaces, limb_targets
+from robots.limbs import PhaseContacts, limb_surfaces, limb_targets
 from robots.model import RobotModel
 from robots.scene import Scenario
 from robots.types import CentroidalPlan, RobotState
@@ -93,30 +92,11 @@ class LinearMpcPlanner:
         for limb in self.limbs:
             position, rotation = robot.frame_pose(state, limb.contact_frame)
             self.start_pose[limb.name] = (position, from_matrix(rotation))
-        self._contacts_of: dict[int, tuple] = {}
+        self._phase_contacts = PhaseContacts(self.surfaces)
         self._prediction: tuple[np.ndarray, np.ndarray] | None = None  # (times, CoM)
         self._last_plan: tuple[float, np.ndarray] | None = None  # (start, G lambda per sample)
         self.solver_failures = 0
         self.last_error: str | None = None
-
-    def _contacts(self, t: float):
-        """(phase, ContactSet, mean contact height) of the phase at t, cached per phase."""
-        phase = self.scenario.phase_at(t)
-        cached = self._contacts_of.get(id(phase))
-        if cached is None or cached[0] is not phase:
-            contacts = contact_set(
-                [c.limb for c in phase.contacts],
-                [self.surfaces[c.limb] for c in phase.contacts],
-                [np.asarray(c.position_world, dtype=float) for c in phase.contacts],
-                [to_matrix(c.orientation_world) for c in phase.contacts],
-            )
-            height = (
-                float(np.mean([c.position_world[2] for c in phase.contacts]))
-                if phase.contacts
-                else 0.0
-            )
-            cached = self._contacts_of[id(phase)] = (phase, contacts, height)
-        return cached
 
     def _reference_at(self, times: np.ndarray) -> np.ndarray:
         index = np.minimum(np.round(times / REFERENCE_DT).astype(int), len(self.reference) - 1)
@@ -143,13 +123,15 @@ class LinearMpcPlanner:
     def plan(self, t: float, state: RobotState) -> CentroidalPlan:
         start = time.perf_counter_ns()
         samples = t + self.dtau * np.arange(self.horizon)
-        per_sample = [self._contacts(s) for s in samples]
+        phases = [self.scenario.phase_at(s) for s in samples]
+        per_sample = [self._phase_contacts(phase) for phase in phases]
         y_reference = np.zeros((self.horizon, 6))
         y_reference[:, :3] = self._reference_at(samples + self.dtau)
-        phase, contacts_now, height = per_sample[0]
+        phase = phases[0]
+        contacts_now, height = per_sample[0]
         after_reference = time.perf_counter_ns()
 
-        generators = [c.matrix for _, c, _ in per_sample]
+        generators = [c.matrix for c, _ in per_sample]
         points = self._linearisation_points(samples)
         maps = self.model.wrench_maps(generators, points)
         upper = (

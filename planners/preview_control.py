@@ -33,14 +33,13 @@ import time
 
 import numpy as np
 
-from centroidal.contacts import contact_set
 from centroidal.preview import TripleIntegratorPreview, preview_gains
 from centroidal.projection import DEFAULT_BACKEND, WrenchProjector, project_resultant
 from centroidal.rotations import exp, from_matrix, log, to_matrix
 from centroidal.wrench import zmp_on_plane
 from planners.base import PlannerSpec, register
 from planners.reference import com_reference, support_centre
-from robots.limbs import limb_surfaces, limb_targets
+from robots.limbs import PhaseContacts, limb_surfaces, limb_targets
 from robots.model import RobotModel
 from robots.scene import Scenario
 from robots.types import CentroidalPlan, RobotState
@@ -109,21 +108,7 @@ class PreviewControlPlanner:
         for limb in self.limbs:
             position, rotation = robot.frame_pose(state, limb.contact_frame)
             self.start_pose[limb.name] = (position, from_matrix(rotation))
-        self._contact_cache: tuple | None = None
-
-    def _contacts(self, t: float):
-        """The contact set of the phase at t (cached while the phase lasts)."""
-        phase = self.scenario.phase_at(t)
-        if self._contact_cache is None or self._contact_cache[0] is not phase:
-            contacts = contact_set(
-                [c.limb for c in phase.contacts],
-                [self.surfaces[c.limb] for c in phase.contacts],
-                [np.asarray(c.position_world, dtype=float) for c in phase.contacts],
-                [to_matrix(c.orientation_world) for c in phase.contacts],
-            )
-            height = float(np.mean([c.position_world[2] for c in phase.contacts]))
-            self._contact_cache = (phase, contacts, height)
-        return self._contact_cache
+        self._phase_contacts = PhaseContacts(self.surfaces)
 
     def plan(self, t: float, state: RobotState) -> CentroidalPlan:
         start = time.perf_counter_ns()
@@ -140,7 +125,8 @@ class PreviewControlPlanner:
         wrench_planned = self.output_scale * planned[:, 2]
         after_preview = time.perf_counter_ns()
 
-        phase, contacts, height = self._contacts(t)
+        phase = self.scenario.phase_at(t)
+        contacts, height = self._phase_contacts(phase)
         com_planned = planned[:3, 0]
         wrench_projected, projected_contact = project_resultant(
             self.projector, contacts, self.mass, com_planned, wrench_planned

@@ -21,14 +21,13 @@ import time
 
 import numpy as np
 
-from centroidal.contacts import contact_set
 from centroidal.preview import TripleIntegratorPreview, output_preview_gains
 from centroidal.projection import DEFAULT_BACKEND, GRAVITY, WrenchProjector, project_resultant
-from centroidal.rotations import IDENTITY_WXYZ, from_matrix, to_matrix
+from centroidal.rotations import IDENTITY_WXYZ, from_matrix
 from centroidal.wrench import zmp_on_plane
 from planners.base import PlannerSpec, register
 from planners.reference import com_reference, support_centre
-from robots.limbs import limb_surfaces, limb_targets
+from robots.limbs import PhaseContacts, limb_surfaces, limb_targets
 from robots.model import RobotModel
 from robots.scene import Scenario
 from robots.types import CentroidalPlan, RobotState
@@ -66,6 +65,7 @@ class PreviewZmpPlanner:
         self.window = np.zeros((self.horizon, 2, 1))
         self.limbs = description.limbs
         self.surfaces = limb_surfaces(description, scenario.scene.friction)
+        self._phase_contacts = PhaseContacts(self.surfaces)
         self.start_pose = {}
         for limb in self.limbs:
             position, rotation = robot.frame_pose(state, limb.contact_frame)
@@ -94,16 +94,10 @@ class PreviewZmpPlanner:
         after_preview = time.perf_counter_ns()
 
         phase = self.scenario.phase_at(t)
-        contacts = contact_set(
-            list(phase.limbs),
-            [self.surfaces[c.limb] for c in phase.contacts],
-            [np.asarray(c.position_world, dtype=float) for c in phase.contacts],
-            [to_matrix(c.orientation_world) for c in phase.contacts],
-        )
+        contacts, height = self._phase_contacts(phase)
         wrench_projected, projected_contact = project_resultant(
             self.projector, contacts, self.mass, com, wrench_planned
         )  # eqs. 9-10
-        height = float(np.mean([c.position_world[2] for c in phase.contacts]))
         zmp = zmp_on_plane(projected_contact, height)
         after_projection = time.perf_counter_ns()
 

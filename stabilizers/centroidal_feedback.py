@@ -37,6 +37,7 @@ from centroidal.rotations import (
     quaternion_multiply,
     quaternions_from_vectors,
     rotation_error,
+    skew,
     to_matrices,
     to_matrix,
     vectors_from_quaternions,
@@ -129,7 +130,6 @@ class CentroidalFeedbackStabilizer:
         # Delta r^c of every limb end (eq. 15): linear [m] and rotation vector [rad], world axes.
         self.compliance_linear = np.zeros((len(self.limbs), 3))
         self.compliance_angular = np.zeros((len(self.limbs), 3))
-        self.weight = np.array([0.0, 0.0, self.mass * GRAVITY])
         self._cache_key, self._cache = None, None
         self._index_of: dict[tuple[str, ...], np.ndarray] = {}
 
@@ -158,7 +158,7 @@ class CentroidalFeedbackStabilizer:
             # world wrench about the origin -> the limb frame about its origin
             transpose = rotations[j].T
             shift = np.eye(6)
-            shift[3:, :3] = -_skew(positions[k])
+            shift[3:, :3] = -skew(positions[k])
             to_frame = np.kron(np.eye(2), transpose) @ shift
             blocks.append(to_frame @ contacts.matrix[:, contacts.slices[j]])
         to_limb_frames = (
@@ -248,11 +248,6 @@ class CentroidalFeedbackStabilizer:
             limb_tracked=plan.limb_tracked,
             wrench_distributed_world=distributed - offset,
         )
-
-
-def _skew(v: np.ndarray) -> np.ndarray:
-    """[v]x, so that [v]x u = v x u."""
-    return np.array([[0.0, -v[2], v[1]], [v[2], 0.0, -v[0]], [-v[1], v[0], 0.0]])
 
 
 register(
