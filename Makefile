@@ -17,9 +17,11 @@ $(STAMP): pyproject.toml constraints.txt
 	$(BIN)/python -m pip install --quiet -c constraints.txt -e '.[dev]'
 	@touch $@
 
-## bench: the main job (for now: load the robot in both simulators, stand, print the summary)
+## bench: the main job: every registered controller x both simulators, standing push survival
+## (5 levels x 20 pushes) and one walk each, on local processes; results and report in results/latest/
 bench: $(STAMP)
-	$(BIN)/centrobench demo
+	$(BIN)/centrobench sweep --spec bench/specs/main.toml --out results/latest --overwrite
+	$(BIN)/centrobench report results/latest --out results/latest
 
 ## test: the test suite without the long simulations (what CI runs)
 test: $(STAMP)

@@ -174,6 +174,40 @@ def build_parser() -> argparse.ArgumentParser:
         help="simulated seconds (default 3)",
     )
     demo.add_argument("--scale", type=_positive("--scale"), default=1.0, help="length scale")
+
+    sweep = commands.add_parser(
+        "sweep",
+        help="run a grid of episodes (TOML spec or flags) on local processes or Ray",
+    )
+    sweep.add_argument("--spec", default=None, help="a TOML sweep spec (see bench/sweep_spec.py)")
+    _names_arg = lambda text: [n.strip() for n in text.split(",") if n.strip()]  # noqa: E731
+    _numbers_arg = lambda text: [float(n) for n in text.split(",") if n.strip()]  # noqa: E731
+    sweep.add_argument("--controllers", type=_names_arg, help="planner+stabilizer names, or all")
+    sweep.add_argument("--sims", type=_names_arg, help="mujoco, pybullet or all")
+    sweep.add_argument("--scenarios", type=_names_arg, help="scenarios without a push")
+    sweep.add_argument("--push-dv", type=_numbers_arg, help="push levels dv = J / m [m/s]")
+    sweep.add_argument("--push-count", type=int, help="pushes per level (default 20)")
+    sweep.add_argument("--push-phases", type=_names_arg, help="standing, walking")
+    sweep.add_argument("--push-seed", type=int, help="seed of the push directions (default 0)")
+    sweep.add_argument("--seeds", type=lambda t: [int(n) for n in t.split(",")], help="seeds")
+    sweep.add_argument("--scales", type=_numbers_arg, help="robot length scales")
+    sweep.add_argument("--frictions", type=_numbers_arg, help="friction coefficients")
+    sweep.add_argument("--duration", type=float, help="seconds of the plain scenarios")
+    sweep.add_argument("--name", default=None, help="the sweep's name")
+    sweep.add_argument("--out", default=None, help="result directory (default results/NAME)")
+    sweep.add_argument("--executor", default="local", choices=("local", "ray"))
+    sweep.add_argument("--address", default=None, help="Ray cluster address (with --executor ray)")
+    sweep.add_argument("--workers", type=int, default=None, help="processes (default: cores)")
+    sweep.add_argument("--resume", action="store_true", help="run only the missing episodes")
+    sweep.add_argument("--overwrite", action="store_true", help="delete earlier results in OUT")
+    sweep.add_argument("--no-progress", action="store_true", help="no progress bar")
+
+    report = commands.add_parser("report", help="build report.md and report.html from results")
+    report.add_argument("results", help="a sweep's result directory")
+    report.add_argument("--out", default=None, help="output directory (default: RESULTS)")
+    report.add_argument(
+        "--benchmark-json", default=None, help="a pytest-benchmark JSON file to add as a table"
+    )
     return parser
 
 
@@ -400,6 +434,101 @@ def _demo(args: argparse.Namespace) -> int:
     return 0
 
 
+def _sweep_mapping(args: argparse.Namespace) -> dict:
+    """The spec's fields: from --spec (TOML), overridden by the flags given."""
+    import tomllib
+
+    data: dict = {}
+    if args.spec is not None:
+        from pathlib import Path
+
+        try:
+            data = tomllib.loads(Path(args.spec).read_text())
+        except FileNotFoundError:
+            raise UsageError(f"sweep spec {args.spec} does not exist") from None
+        except tomllib.TOMLDecodeError as exc:
+            raise UsageError(f"sweep spec {args.spec} is not valid TOML: {exc}") from None
+    for flag in ("controllers", "sims", "scenarios", "seeds", "scales", "frictions", "duration"):
+        value = getattr(args, flag)
+        if value is not None:
+            data[flag] = value
+    if args.name is not None:
+        data["name"] = args.name
+    push = dict(data.get("push", {})) if isinstance(data.get("push"), dict) else data.get("push")
+    for flag, key in (
+        ("push_dv", "dv"),
+        ("push_count", "count"),
+        ("push_phases", "phases"),
+        ("push_seed", "seed"),
+    ):
+        value = getattr(args, flag)
+        if value is not None:
+            push = push if isinstance(push, dict) else {}
+            push[key] = value
+    if push is not None:
+        data["push"] = push
+    return data
+
+
+def _sweep(args: argparse.Namespace) -> int:
+    from bench.sweep import run_sweep
+    from bench.sweep_spec import SpecError, spec_from_mapping
+
+    try:
+        spec = spec_from_mapping(_sweep_mapping(args))
+    except SpecError as exc:
+        raise UsageError(str(exc)) from None
+    if args.workers is not None and args.workers < 1:
+        raise UsageError(f"--workers must be >= 1, got {args.workers}")
+    if args.resume and args.overwrite:
+        raise UsageError("--resume and --overwrite exclude each other")
+    out = args.out or f"results/{spec.name}"
+    total = len(spec.episodes())
+    print(f"sweep {spec.name!r}: {total} episodes -> {out} ({args.executor})", file=sys.stderr)
+    try:
+        frame = run_sweep(
+            spec,
+            out,
+            executor=args.executor,
+            workers=args.workers,
+            address=args.address,
+            resume=args.resume,
+            overwrite=args.overwrite,
+            progress=not args.no_progress,
+        )
+    except FileExistsError as exc:
+        raise UsageError(str(exc)) from None
+    except ImportError as exc:
+        raise UsageError(str(exc)) from None
+    except KeyboardInterrupt:
+        print(
+            f"\ninterrupted: the finished episodes are in {out}; "
+            "run the same command with --resume to complete the sweep",
+            file=sys.stderr,
+        )
+        return 130
+    counts = frame["status"].value_counts().to_dict()
+    print(
+        f"{len(frame)} episodes in {out}: "
+        + ", ".join(f"{n} {status}" for status, n in sorted(counts.items())),
+        file=sys.stderr,
+    )
+    return 0
+
+
+def _report(args: argparse.Namespace) -> int:
+    from reports.build import build_report
+
+    out = args.out or args.results
+    try:
+        paths = build_report(args.results, out, benchmark_json=args.benchmark_json)
+    except FileNotFoundError as exc:
+        raise UsageError(str(exc)) from None
+    for path in paths:
+        print(path)
+    return 0
+
+
 def main(argv: Sequence[str] | None = None) -> int:
     parser = build_parser()
     try:
@@ -413,6 +542,8 @@ def main(argv: Sequence[str] | None = None) -> int:
             "run": _run,
             "list": _list,
             "compare": _compare,
+            "sweep": _sweep,
+            "report": _report,
         }
         return commands[args.command](args)
     except (UsageError, MissingDependencyError, ValueError, KeyError) as exc:

@@ -18,7 +18,8 @@ from concurrent.futures import ProcessPoolExecutor
 import numpy as np
 import pandas as pd
 
-from bench.runner import AXES, EpisodeSpec, run_episode
+from bench.metrics import feedback_magnitude
+from bench.runner import EpisodeSpec, run_episode
 
 COMPARISON_COLUMNS = (
     "planner",
@@ -60,12 +61,7 @@ def _row(spec: EpisodeSpec) -> dict:
         "solver_failures": summary["solver_failures"],
         "error": summary["error"] or summary["fall_reason"],
     }
-    desired = [f"wrench_desired_{a}" for a in AXES]
-    projected = [f"wrench_projected_{a}" for a in AXES]
-    if set(desired) <= set(trace.columns):
-        feedback = trace[desired].to_numpy() - trace[projected].to_numpy()
-        row["feedback_force_N"] = float(np.mean(np.linalg.norm(feedback[:, :3], axis=1)))
-        row["feedback_moment_Nm"] = float(np.mean(np.linalg.norm(feedback[:, 3:], axis=1)))
+    row.update({k: v for k, v in feedback_magnitude(trace).items() if v is not None})
     update = summary["latency_us"].get("planner", {})
     row["update_median_us"] = update.get("median")
     row["update_p99_us"] = update.get("p99")

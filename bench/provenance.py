@@ -8,7 +8,21 @@ import subprocess
 from importlib import metadata
 from pathlib import Path
 
-PACKAGES = ("centrobench", "mujoco", "pybullet", "pin", "qpsolvers", "daqp", "numpy", "scipy")
+PACKAGES = (
+    "centrobench",
+    "mujoco",
+    "pybullet",
+    "pin",
+    "qpsolvers",
+    "daqp",
+    "piqp",
+    "osqp",
+    "clarabel",
+    "proxsuite",
+    "quadprog",
+    "numpy",
+    "scipy",
+)
 
 
 @functools.cache

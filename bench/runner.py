@@ -49,6 +49,9 @@ class EpisodeSpec:
     push_direction_deg: float | None = None
     estimator: str = "ground_truth"
     scale: float = 1.0
+    push_time: float | None = None  # [s], stand_push only
+    push_step: int | None = None  # walk_push only: the single-support phase pushed
+    friction: float | None = None  # None: the scenario's
 
 
 @dataclass
@@ -94,30 +97,42 @@ def _check_command(command: JointCommand) -> None:
 
 
 class _Trace:
-    """Per-period columns in preallocated arrays (float64 unless said), grown on demand."""
+    """Per-period columns in preallocated arrays (float64 unless said): a scalar per `put`
+    name, a (periods, k) block per `put_vector` prefix (one row write per period);
+    `frame` names the block columns prefix_name."""
 
     def __init__(self, n_periods: int, limbs: tuple[str, ...]) -> None:
         self.n = 0
         self.capacity = n_periods
-        self.columns: dict[str, np.ndarray] = {}
+        self.blocks: dict[str, tuple[np.ndarray, tuple[str, ...] | None]] = {}
         self.limbs = limbs
 
     def put(self, name: str, value: float, dtype=np.float64) -> None:
-        column = self.columns.get(name)
-        if column is None:
-            column = self.columns[name] = (
+        block = self.blocks.get(name)
+        if block is None:
+            column = (
                 np.full(self.capacity, np.nan, dtype=dtype)
                 if dtype == np.float64
                 else np.zeros(self.capacity, dtype=dtype)
             )
-        column[self.n] = value
+            block = self.blocks[name] = (column, None)
+        block[0][self.n] = value
 
     def put_vector(self, prefix: str, values, names=("x", "y", "z")) -> None:
-        for name, value in zip(names, values, strict=True):
-            self.put(f"{prefix}_{name}", value)
+        block = self.blocks.get(prefix)
+        if block is None:
+            block = self.blocks[prefix] = (np.full((self.capacity, len(names)), np.nan), names)
+        block[0][self.n] = values
 
     def frame(self) -> pd.DataFrame:
-        return pd.DataFrame({name: column[: self.n] for name, column in self.columns.items()})
+        columns = {}
+        for name, (array, names) in self.blocks.items():
+            if names is None:
+                columns[name] = array[: self.n]
+            else:
+                for k, part in enumerate(names):
+                    columns[f"{name}_{part}"] = array[: self.n, k]
+        return pd.DataFrame(columns)
 
 
 def _latency(trace: pd.DataFrame) -> dict[str, dict[str, float]]:
@@ -144,6 +159,8 @@ def run_episode(spec: EpisodeSpec) -> EpisodeResult:
         "seed": spec.seed,
         "estimator": spec.estimator,
         "scale": spec.scale,
+        "friction": spec.friction,
+        "mass_kg": None,
         "status": "ok",
         "fell": False,
         "fall_time": None,
@@ -164,9 +181,17 @@ def run_episode(spec: EpisodeSpec) -> EpisodeResult:
         robot = humanoid(spec.scale)
         model = RobotModel(robot)
         scenario = make_scenario(
-            spec.scenario, model, spec.duration, spec.push_impulse, spec.push_direction_deg
+            spec.scenario,
+            model,
+            spec.duration,
+            spec.push_impulse,
+            spec.push_direction_deg,
+            spec.push_time,
+            spec.push_step,
+            spec.friction,
         )
         scene = scenario.scene
+        summary.update(friction=scene.friction, mass_kg=robot.total_mass)
         dt = scene.control_dt
         planner = planner_spec(spec.planner).factory(dt)
         stabilizer = stabilizer_spec(spec.stabilizer).factory(dt)
@@ -325,6 +350,8 @@ def _record(
     vector("com_planned", plan.com_planned_world)
     vector("com_desired", targets.com_desired_world)
     vector("com_actual", state.com_position_world)
+    vector("com_velocity_planned", plan.com_velocity_planned_world)
+    vector("com_velocity_actual", state.com_velocity_world)
     vector("base_quat", state.base_orientation_world, ("w", "x", "y", "z"))
     vector("zmp_planned", plan.zmp_planned_world[:2], ("x", "y"))
     vector("zmp_desired", targets.zmp_desired_world[:2], ("x", "y"))

@@ -16,7 +16,7 @@
 from __future__ import annotations
 
 from collections.abc import Callable
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
 import numpy as np
 
@@ -125,6 +125,8 @@ def walk_push(
 ) -> Scenario:
     base = walk(model, duration)
     single = [p for p in base.phases if len(p.contacts) == 1]
+    if not 1 <= push_step <= len(single):
+        raise ValueError(f"push_step must be 1..{len(single)} (the walk's steps), got {push_step}")
     phase = single[push_step - 1]
     mid = (phase.start + phase.end) / 2
     angle = np.deg2rad(push_direction_deg)
@@ -159,9 +161,14 @@ def make_scenario(
     duration: float | None = None,
     push_impulse: float | None = None,
     push_direction_deg: float | None = None,
+    push_time: float | None = None,
+    push_step: int | None = None,
+    friction: float | None = None,
 ) -> Scenario:
     """Build scenario `name` for `model`. Raises KeyError for an unknown name (listing the known
-    ones) and ValueError for bad parameters."""
+    ones) and ValueError for bad parameters. `push_time` [s] applies to `stand_push`,
+    `push_step` (the single-support phase pushed in the middle, from 1) to `walk_push`;
+    `friction` replaces the scene's Coulomb coefficient."""
     if name not in SCENARIOS:
         raise KeyError(f"unknown scenario {name!r}; choose one of: {', '.join(SCENARIOS)}")
     spec = SCENARIOS[name]
@@ -182,4 +189,19 @@ def make_scenario(
             kwargs["push_impulse"] = push_impulse
         if push_direction_deg is not None:
             kwargs["push_direction_deg"] = push_direction_deg
-    return spec.build(model, **kwargs)
+    if push_time is not None:
+        if name != "stand_push":
+            raise ValueError(f"push_time applies to stand_push, not to {name!r}")
+        if not (np.isfinite(push_time) and push_time >= 0):
+            raise ValueError(f"push_time must be >= 0 s, got {push_time}")
+        kwargs["push_time"] = push_time
+    if push_step is not None:
+        if name != "walk_push":
+            raise ValueError(f"push_step applies to walk_push, not to {name!r}")
+        kwargs["push_step"] = push_step
+    scenario = spec.build(model, **kwargs)
+    if friction is not None:
+        if not (np.isfinite(friction) and friction > 0):
+            raise ValueError(f"friction must be a positive coefficient, got {friction}")
+        scenario = replace(scenario, scene=replace(scenario.scene, friction=float(friction)))
+    return scenario

@@ -41,8 +41,6 @@ import numpy as np
 import scipy.linalg
 import scipy.sparse
 
-from centroidal.wrench import cross
-
 GRAVITY = 9.81
 
 
@@ -143,11 +141,14 @@ class MpcModel:
         return self._sparse_constants
 
     def wrench_maps(self, generators: list[np.ndarray], points: np.ndarray) -> list[np.ndarray]:
-        """W_k (6, n_k) from each sample's G_k (moments about the origin) and c-hat_k."""
-        return [
-            np.vstack([g[:3], g[3:] - cross(point, g[:3].T).T])
-            for g, point in zip(generators, points, strict=True)
-        ]
+        """W_k (6, n_k) from each sample's G_k (moments about the origin) and c-hat_k: the
+        moment rows taken about c-hat_k, n - c-hat_k x f (all samples in one array operation)."""
+        sizes = [g.shape[1] for g in generators]
+        stacked = np.hstack(generators)  # (6, sum n_k)
+        forces = stacked[:3]
+        about = np.repeat(np.asarray(points, dtype=float), sizes, axis=0)  # c-hat per column
+        moments = stacked[3:] - np.cross(about, forces.T).T
+        return np.split(np.vstack([forces, moments]), np.cumsum(sizes)[:-1], axis=1)
 
     def predict(self, x0: np.ndarray, inputs: np.ndarray) -> np.ndarray:
         """States x_1..x_N (N, 12) for inputs u_0..u_{N-1} (N, 6)."""

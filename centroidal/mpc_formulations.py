@@ -36,7 +36,7 @@ _TOLERANCES = {
     "osqp": {"eps_abs": 1e-7, "eps_rel": 1e-7, "polish": True, "max_iter": 20000},
     "clarabel": {"tol_gap_abs": 1e-9, "tol_gap_rel": 1e-9, "tol_feas": 1e-9},
     "proxqp": {"eps_abs": 1e-9, "eps_rel": 0.0},
-    "piqp": {"eps_abs": 1e-8, "eps_rel": 1e-9},
+    "piqp": {"eps_abs": 1e-8, "eps_rel": 1e-9, "preconditioner_reuse_on_update": True},
 }
 
 

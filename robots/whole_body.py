@@ -54,9 +54,11 @@ class WholeBodyLayer:
             )
             if targets.contact_wrench_desired_limb is not None:
                 wrenches = np.concatenate(
-                    [
-                        np.kron(np.eye(2), data.oMf[self.limb_frames[k]].rotation)
-                        @ targets.contact_wrench_desired_limb[k]
+                    [  # force and moment, each rotated from the limb frame to the world
+                        (
+                            np.reshape(targets.contact_wrench_desired_limb[k], (2, 3))
+                            @ data.oMf[self.limb_frames[k]].rotation.T
+                        ).ravel()
                         for k in contacts
                     ]
                 )

@@ -64,6 +64,20 @@ def quaternion_to_matrix(quaternion_wxyz: np.ndarray) -> np.ndarray:
     )
 
 
+def quaternion_product(a, b) -> np.ndarray:
+    """Hamilton product a b of two quaternions (w, x, y, z) (scalar arithmetic: ~2 us)."""
+    aw, ax, ay, az = a
+    bw, bx, by, bz = b
+    return np.array(
+        [
+            aw * bw - ax * bx - ay * by - az * bz,
+            aw * bx + ax * bw + ay * bz - az * by,
+            aw * by - ax * bz + ay * bw + az * bx,
+            aw * bz + ax * by - ay * bx + az * bw,
+        ]
+    )
+
+
 def cross(a: np.ndarray, b: np.ndarray) -> np.ndarray:
     """a x b of two 3-vectors (numpy's `cross` costs ~40 us a call)."""
     return np.array(

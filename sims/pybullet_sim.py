@@ -28,7 +28,13 @@ from robots.build import generate
 from robots.scene import Scene
 from robots.spec import RobotDescription
 from robots.types import MassProperties, RobotState, Sensors
-from sims.base import SimulatorBase, SimulatorError, cross, quaternion_to_matrix
+from sims.base import (
+    SimulatorBase,
+    SimulatorError,
+    cross,
+    quaternion_product,
+    quaternion_to_matrix,
+)
 
 
 def _import_pybullet():
@@ -153,15 +159,23 @@ class PybulletSimulator(SimulatorBase):
         info = pb.getDynamicsInfo(body, -1, physicsClientId=c)
         self._base_com_in_link = np.array(info[3])
         self._base_inertial_rotation = quaternion_to_matrix(_wxyz(info[4]))
+        w, x, y, z = _wxyz(info[4])
+        self._base_inertial_conjugate = np.array([w, -x, -y, -z])
         self._imu_velocity_before = np.zeros(3)
 
     # PyBullet's base pose is its inertial frame; ours is the link frame.
-    def _base_link_pose(self) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    def _base_link_pose(self) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+        """(link origin [m], link rotation, CoM [m], link quaternion (w, x, y, z), w >= 0)."""
         com, orn = pb.getBasePositionAndOrientation(self.body, physicsClientId=self.client)
-        rotation_inertial = quaternion_to_matrix(_wxyz(orn))
-        rotation = rotation_inertial @ self._base_inertial_rotation.T
+        inertial = _wxyz(orn)
+        rotation = quaternion_to_matrix(inertial) @ self._base_inertial_rotation.T
         position = np.array(com) - rotation @ self._base_com_in_link
-        return position, rotation, np.array(com)
+        # the link's orientation: the inertial frame's times its offset's inverse
+        quaternion = quaternion_product(inertial, self._base_inertial_conjugate)
+        quaternion /= np.linalg.norm(quaternion)
+        if quaternion[0] < 0:
+            quaternion = -quaternion
+        return position, rotation, np.array(com), quaternion
 
     def set_state(self, state: RobotState) -> None:
         c, body = self.client, self.body
@@ -181,13 +195,12 @@ class PybulletSimulator(SimulatorBase):
         self._imu_velocity_before = self._imu_state()[2]
 
     def ground_truth(self) -> RobotState:
-        position, rotation, com = self._base_link_pose()
+        position, _, com, quaternion = self._base_link_pose()
         v_com, omega = pb.getBaseVelocity(self.body, physicsClientId=self.client)
         omega = np.array(omega)
         v_origin = np.array(v_com) + cross(omega, position - com)
         q, dq = self._joint_state()
-        x, y, z, w = Rotation.from_matrix(rotation).as_quat()
-        return RobotState(position, np.array([w, x, y, z]), v_origin, omega, q, dq)
+        return RobotState(position, quaternion, v_origin, omega, q, dq)
 
     def _joint_state(self) -> tuple[np.ndarray, np.ndarray]:
         states = pb.getJointStates(self.body, self._joint_idx, physicsClientId=self.client)

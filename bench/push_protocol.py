@@ -1,0 +1,159 @@
+"""The push-survival protocol after Ficht & Behnke, Table 2: for each impulse level, `count`
+pushes (20) from directions drawn uniformly on the horizontal circle with a fixed seed,
+applied to the torso (the base link) for 0.1 s, (a) while standing and (b) in the middle of a
+single-support phase while walking; an episode survives when the robot has not fallen 3 s
+after the push ends.
+
+Levels are velocity changes dv = J / m [m/s], so that robots of different mass compare (the
+paper's 1.2 ... 2.8 N s on its robot of about 6.6 kg are 0.18 ... 0.42 m/s); each episode
+records the impulse J = m dv [N s] for the robot at hand (its mass at the episode's scale).
+Every controller, simulator and level gets the same directions.
+
+Standing pushes start at 0.5 s: every registered controller has settled by then (CoM speed
+below 0.3 mm/s from 0.4 s on, `tests/bench/test_sweep_spec.py`), and the 3 s survival window
+is what costs time in a sweep.
+"""
+
+from __future__ import annotations
+
+import functools
+from collections.abc import Iterator
+from dataclasses import dataclass, replace
+from typing import Any
+
+import numpy as np
+
+PHASES = ("standing", "walking")
+PUSH_DURATION = 0.1  # [s] Ficht & Behnke's pushes; our scenarios' default
+_FIELDS = {
+    "phases": "a list of: standing, walking",
+    "dv": "a list of positive velocity changes [m/s]",
+    "count": "a positive integer (pushes per level)",
+    "seed": "an integer (seed of the push directions)",
+    "survival_time": "a positive number of seconds after the push",
+    "standing_push_time": "a non-negative number of seconds (push start while standing)",
+    "walking_push_step": "a positive integer (the single-support phase pushed mid-way)",
+}
+
+
+@dataclass(frozen=True)
+class PushProtocol:
+    dv: tuple[float, ...]
+    phases: tuple[str, ...] = ("standing",)
+    count: int = 20
+    seed: int = 0
+    survival_time: float = 3.0
+    standing_push_time: float = 0.5
+    walking_push_step: int = 3
+
+    @classmethod
+    def from_mapping(cls, data: dict[str, Any]) -> PushProtocol:
+        """Validated protocol; ValueError messages start with the field name (so that the
+        caller can prefix "push.")."""
+        unknown = sorted(set(data) - set(_FIELDS))
+        if unknown:
+            raise ValueError(f"{unknown[0]}' is unknown; valid fields: {', '.join(_FIELDS)}")
+        if "dv" not in data:
+            raise ValueError(f"dv' is missing ({_FIELDS['dv']})")
+        dv = data["dv"]
+        if not isinstance(dv, list) or not dv:
+            raise ValueError(f"dv' must be {_FIELDS['dv']}, got {dv!r}")
+        for value in dv:
+            if isinstance(value, bool) or not isinstance(value, int | float):
+                raise ValueError(f"dv' must be {_FIELDS['dv']}, got {value!r}")
+            if not (np.isfinite(value) and value > 0):
+                raise ValueError(f"dv' must be {_FIELDS['dv']}, got {value!r}")
+        phases = data.get("phases", ["standing"])
+        if isinstance(phases, str):
+            phases = [phases]
+        if not isinstance(phases, list) or not phases or not set(phases) <= set(PHASES):
+            raise ValueError(f"phases' must be {_FIELDS['phases']}, got {phases!r}")
+        count = _integer("count", data.get("count", 20), minimum=1)
+        seed = _integer("seed", data.get("seed", 0), minimum=None)
+        step = _integer("walking_push_step", data.get("walking_push_step", 3), minimum=1)
+        survival = _number("survival_time", data.get("survival_time", 3.0), strict=True)
+        push_time = _number("standing_push_time", data.get("standing_push_time", 0.5))
+        return cls(
+            dv=tuple(float(v) for v in dv),
+            phases=tuple(dict.fromkeys(phases)),
+            count=count,
+            seed=seed,
+            survival_time=survival,
+            standing_push_time=push_time,
+            walking_push_step=step,
+        )
+
+    def directions_deg(self) -> np.ndarray:
+        """The `count` push directions [deg], uniform on [0, 360) from `seed`."""
+        return np.random.default_rng(self.seed).uniform(0.0, 360.0, self.count)
+
+
+def _integer(label: str, value: Any, minimum: int | None) -> int:
+    if isinstance(value, bool) or not isinstance(value, int):
+        raise ValueError(f"{label}' must be {_FIELDS[label]}, got {value!r}")
+    if minimum is not None and value < minimum:
+        raise ValueError(f"{label}' must be {_FIELDS[label]}, got {value!r}")
+    return value
+
+
+def _number(label: str, value: Any, strict: bool = False) -> float:
+    if isinstance(value, bool) or not isinstance(value, int | float) or not np.isfinite(value):
+        raise ValueError(f"{label}' must be {_FIELDS[label]}, got {value!r}")
+    if value < 0 or (strict and value == 0):
+        raise ValueError(f"{label}' must be {_FIELDS[label]}, got {value!r}")
+    return float(value)
+
+
+@functools.cache
+def robot_mass(scale: float) -> float:
+    """Total mass [kg] of the centrobench humanoid at `scale`."""
+    from robots.humanoid import humanoid
+
+    return float(humanoid(scale).total_mass)
+
+
+@functools.cache
+def walking_push_time(scale: float, step: int) -> float:
+    """Start [s] of the push in the middle of the walk's single-support phase `step`."""
+    from bench.scenarios import make_scenario
+    from robots.humanoid import humanoid
+    from robots.model import RobotModel
+
+    scenario = make_scenario("walk_push", RobotModel(humanoid(scale)), push_step=step)
+    return float(scenario.pushes[0].time)
+
+
+def push_episodes(protocol: PushProtocol, common: dict[str, Any]) -> Iterator[tuple[dict, Any]]:
+    """(labels, EpisodeSpec) for every phase x level x direction; `common` holds the
+    EpisodeSpec fields shared by the grid point (planner, stabilizer, sim, seed, scale...)."""
+    from bench.runner import EpisodeSpec
+
+    mass = robot_mass(common["scale"])
+    directions = protocol.directions_deg()
+    for phase in protocol.phases:
+        if phase == "standing":
+            base = EpisodeSpec(
+                scenario="stand_push",
+                push_time=protocol.standing_push_time,
+                duration=protocol.standing_push_time + PUSH_DURATION + protocol.survival_time,
+                **common,
+            )
+        else:
+            start = walking_push_time(common["scale"], protocol.walking_push_step)
+            base = EpisodeSpec(
+                scenario="walk_push",
+                push_step=protocol.walking_push_step,
+                duration=start + PUSH_DURATION + protocol.survival_time,
+                **common,
+            )
+        for dv in protocol.dv:
+            for index, direction in enumerate(directions):
+                labels = {"push_phase": phase, "push_dv_mps": dv, "push_index": index}
+                yield (
+                    labels,
+                    replace(
+                        base,
+                        push_impulse=round(mass * dv, 9),
+                        push_direction_deg=round(float(direction), 9),
+                    ),
+                )

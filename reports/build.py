@@ -1,0 +1,222 @@
+"""`centrobench report RESULTS --out DIR`: report.md and report.html (figures beside them as
+PNG files) from a sweep's result directory (`bench.dataset` layout: sweep.json,
+episodes/*.parquet, traces/*.parquet). Reads result files only; runs nothing.
+"""
+
+from __future__ import annotations
+
+import datetime
+import html
+import json
+from pathlib import Path
+
+import pandas as pd
+import pyarrow.parquet as pq
+
+from reports import plots, tables
+
+TITLE = "centrobench report"
+
+
+def read_results(root: str | Path) -> tuple[pd.DataFrame, dict | None]:
+    """(episode rows, sweep.json record or None) of a result directory."""
+    root = Path(root)
+    folder = root / "episodes"
+    if not folder.exists() or not any(folder.glob("*.parquet")):
+        raise FileNotFoundError(f"no episode results under {folder}")
+    episodes = pq.read_table(folder).to_pandas().sort_values("episode_id", ignore_index=True)
+    record_path = root / "sweep.json"
+    record = json.loads(record_path.read_text()) if record_path.exists() else None
+    return episodes, record
+
+
+def header(episodes: pd.DataFrame, record: dict | None) -> dict[str, str]:
+    """Provenance: centrobench version, git commits, date, CPUs, package versions, spec."""
+    versions: dict[str, set[str]] = {}
+    for text in episodes["versions_json"].dropna().unique():
+        for package, version in json.loads(text).items():
+            versions.setdefault(package, set()).add(str(version))
+    return {
+        "centrobench": ", ".join(sorted(set(episodes["centrobench_version"].dropna()))) or "?",
+        "git commit": ", ".join(sorted(set(episodes["git_commit"].dropna()))) or "?",
+        "report date (UTC)": datetime.datetime.now(datetime.UTC).strftime("%Y-%m-%d %H:%M"),
+        "CPU": ", ".join(sorted(set(episodes["cpu"].dropna()))) or "?",
+        "versions": "; ".join(f"{p} {', '.join(sorted(v))}" for p, v in sorted(versions.items())),
+        "episodes": f"{len(episodes)}",
+        "sweep spec": json.dumps(record["spec"], sort_keys=True) if record else "?",
+    }
+
+
+def sections(
+    episodes: pd.DataFrame, benchmark: dict | None = None
+) -> list[tuple[str, str, pd.DataFrame]]:
+    """(title, explanation, table) in report order."""
+    result = [
+        (
+            "Episodes by status",
+            "Every episode of the sweep, by how it ended (ok, fell, error).",
+            tables.status_table(episodes),
+        ),
+        (
+            "Latency per stage (Murooka Table IV)",
+            "Median and p99 per control period [µs] in each walk: the Table IV rows (reference, "
+            "preview, projection, distribution and their total) and the loop's stages.",
+            _latency_cells(tables.latency_table(episodes)),
+        ),
+        (
+            "Wrench projection errors (Murooka Sec. V-G)",
+            "Means over each walk's periods: planned (||w^p - w^p'||) and desired "
+            "(||w^d - w^d'||) projection errors and the feedback wrench ||w^d - w^p'||, "
+            "force [N] and moment [N m]. Empty where the stabilizer distributes no wrench.",
+            tables.projection_table(episodes),
+        ),
+    ]
+    for phase in ("standing", "walking"):
+        table = tables.survival_table(episodes, phase)
+        if len(table):
+            result.append(
+                (
+                    f"Push survival, {phase} (Ficht & Behnke Table 2)",
+                    "Pushes survived out of those applied per level: a push to the torso for "
+                    "0.1 s from a direction drawn uniformly on the circle (the same directions "
+                    "for every controller); survived = no fall within 3 s after it. Levels are "
+                    "velocity changes dv = J / m, with the impulse J for this robot.",
+                    table,
+                )
+            )
+    result += [
+        (
+            "Walking quality (Ficht & Behnke eq. 18)",
+            "Integral square errors of the CoM (e_com, m s), ZMP (e_zmp, m s) and CoM velocity "
+            "(e_velocity, m/s) against the plan, normalised by walking time and forward speed; "
+            "CoM tracking error RMS [mm].",
+            tables.walking_quality_table(episodes),
+        ),
+        (
+            "MuJoCo against PyBullet",
+            "Per controller: standing push survival rate [%] and walking CoM tracking error "
+            "[mm] in each simulator, and their difference (MuJoCo minus PyBullet).",
+            tables.agreement_table(episodes),
+        ),
+    ]
+    if benchmark is not None:
+        result.append(
+            (
+                "pytest-benchmark",
+                f"From {benchmark.get('machine_info', {}).get('cpu', {}).get('brand_raw', '?')}, "
+                f"{benchmark.get('datetime', '?')}.",
+                tables.benchmark_table(benchmark),
+            )
+        )
+    return result
+
+
+def build_report(
+    results: str | Path, out: str | Path, benchmark_json: str | Path | None = None
+) -> list[Path]:
+    """Write report.md, report.html and the figures into `out`; returns their paths."""
+    episodes, record = read_results(results)
+    out = Path(out)
+    out.mkdir(parents=True, exist_ok=True)
+    benchmark = None
+    if benchmark_json is not None:
+        path = Path(benchmark_json)
+        if not path.exists():
+            raise FileNotFoundError(f"benchmark file {path} does not exist")
+        benchmark = json.loads(path.read_text())
+    info = header(episodes, record)
+    parts = sections(episodes, benchmark)
+    figures: list[tuple[str, Path]] = []
+    rates = tables.survival_rates(episodes, "standing")
+    if len(rates):
+        figures.append(
+            ("Standing push survival against dv", plots.survival_plot(rates, out / "survival.png"))
+        )
+    walk_traces = _walk_traces(Path(results), episodes)
+    if walk_traces:
+        figures.append(
+            (
+                "CoM and ZMP of one walk per controller",
+                plots.walk_plot(walk_traces, out / "walk.png"),
+            )
+        )
+    md = out / "report.md"
+    md.write_text(_markdown(info, parts, figures))
+    page = out / "report.html"
+    page.write_text(_html(info, parts, figures))
+    return [md, page, *(path for _, path in figures)]
+
+
+def _walk_traces(root: Path, episodes: pd.DataFrame) -> dict[str, pd.DataFrame]:
+    """One walk trace per controller (MuJoCo's when there is one)."""
+    walks = tables.walks(episodes)
+    walks = walks[walks["has_trace"].fillna(False).astype(bool)]
+    result = {}
+    for controller, group in walks.sort_values(["controller", "sim"]).groupby("controller"):
+        row = group.iloc[0]
+        path = root / "traces" / f"{row['episode_id']}.parquet"
+        if path.exists():
+            result[f"{controller} ({row['sim']}, {row['status']})"] = pq.read_table(
+                path
+            ).to_pandas()
+    return result
+
+
+def _latency_cells(table: pd.DataFrame) -> pd.DataFrame:
+    """One "median / p99" cell per stage (the numeric table is `tables.latency_table`)."""
+    result = table[tables.KEYS].copy()
+    for column in table.columns:
+        if column.endswith(" median µs"):
+            stage = column.removesuffix(" median µs")
+            median, p99 = table[column], table[f"{stage} p99 µs"]
+            result[f"{stage} µs"] = [
+                "–" if m != m else f"{m:.0f} / {p:.0f}" for m, p in zip(median, p99, strict=True)
+            ]
+    return result
+
+
+def _format(table: pd.DataFrame) -> pd.DataFrame:
+    def cell(value):
+        if isinstance(value, float):
+            if value != value:
+                return "–"
+            return f"{value:.4g}"
+        return value
+
+    return table.map(cell)
+
+
+def _markdown(info, parts, figures) -> str:
+    lines = [f"# {TITLE}", ""]
+    lines += [f"- **{key}**: {value}" for key, value in info.items()]
+    for title, text, table in parts:
+        lines += ["", f"## {title}", "", text, ""]
+        lines.append(_format(table).to_markdown(index=False) if len(table) else "(no rows)")
+    for title, path in figures:
+        lines += ["", f"## {title}", "", f"![{title}]({path.name})"]
+    return "\n".join(lines) + "\n"
+
+
+def _html(info, parts, figures) -> str:
+    body = [f"<h1>{TITLE}</h1>", "<ul>"]
+    body += [f"<li><b>{html.escape(k)}</b>: {html.escape(v)}</li>" for k, v in info.items()]
+    body.append("</ul>")
+    for title, text, table in parts:
+        body += [f"<h2>{html.escape(title)}</h2>", f"<p>{html.escape(text)}</p>"]
+        body.append(
+            _format(table).to_html(index=False, border=0) if len(table) else "<p>(no rows)</p>"
+        )
+    for title, path in figures:
+        body += [
+            f"<h2>{html.escape(title)}</h2>",
+            f'<img src="{path.name}" alt="{html.escape(title)}">',
+        ]
+    style = (
+        "body{font-family:sans-serif;max-width:1200px;margin:2em auto}"
+        "table{border-collapse:collapse;font-size:13px}td,th{padding:3px 8px;"
+        "border-bottom:1px solid #ddd;text-align:right}img{max-width:100%}"
+    )
+    return (
+        f"<!doctype html><html><head><meta charset='utf-8'><title>{TITLE}</title>"
+        f"<style>{style}</style></head><body>{''.join(body)}</body></html>\n"
+    )

@@ -1,0 +1,165 @@
+"""The report's tables, in the papers' shapes, computed from a sweep's episode rows
+(`bench.dataset.ROW_SCHEMA`). Each function returns a pandas DataFrame with plain columns
+(no index), rows ordered by controller then simulator.
+
+Episodes are grouped as follows: "walks" are the rows of scenario `walk` without a push (the
+walking quality, latency and projection tables); "pushes" are the rows with a `push_phase`
+(the survival table). Where a group has several episodes (several seeds), a table reports
+the median over them (the mean for the projection errors, which are means already).
+"""
+
+from __future__ import annotations
+
+import numpy as np
+import pandas as pd
+
+KEYS = ["controller", "sim"]
+TABLE_IV_STAGES = ("reference", "preview", "projection", "distribution", "centroidal_total")
+LOOP_STAGES = ("planner", "stabilizer", "whole_body", "control_total")
+PROJECTION_COLUMNS = (
+    "planned_force_N",
+    "planned_moment_Nm",
+    "desired_force_N",
+    "desired_moment_Nm",
+    "feedback_force_N",
+    "feedback_moment_Nm",
+)
+
+
+def walks(episodes: pd.DataFrame) -> pd.DataFrame:
+    return episodes[(episodes["scenario"] == "walk") & episodes["push_phase"].isna()]
+
+
+def pushes(episodes: pd.DataFrame, phase: str) -> pd.DataFrame:
+    return episodes[episodes["push_phase"] == phase]
+
+
+def latency_table(episodes: pd.DataFrame) -> pd.DataFrame:
+    """Murooka Table IV's rows (and the loop's stages) per controller x simulator, from the
+    walks: median and p99 [µs] of each stage over the episode's control periods."""
+    columns = []
+    for stage in (*TABLE_IV_STAGES, *LOOP_STAGES):
+        columns += [f"lat_{stage}_median_us", f"lat_{stage}_p99_us"]
+    table = walks(episodes).groupby(KEYS, sort=True)[columns].median().reset_index()
+    table.columns = [
+        c.removeprefix("lat_").replace("_median_us", " median µs").replace("_p99_us", " p99 µs")
+        for c in table.columns
+    ]
+    return table
+
+
+def projection_table(episodes: pd.DataFrame) -> pd.DataFrame:
+    """Murooka Sec. V-G per controller x simulator, from the walks: mean planned projection
+    error ||w^p - w^p'|| and desired projection error ||w^d - w^d'|| (force [N], moment [N m]),
+    and the mean feedback wrench ||w^d - w^p'||."""
+    return walks(episodes).groupby(KEYS, sort=True)[list(PROJECTION_COLUMNS)].mean().reset_index()
+
+
+def level_label(dv: float, impulse: float) -> str:
+    return f"{dv:g} m/s ({impulse:.1f} N s)"
+
+
+def survival_table(episodes: pd.DataFrame, phase: str = "standing") -> pd.DataFrame:
+    """Ficht & Behnke Table 2: rows controller x simulator, a column per level (dv, and the
+    impulse in N s for this robot), cells "survived/pushes"."""
+    rows = pushes(episodes, phase)
+    if rows.empty:
+        return pd.DataFrame(columns=KEYS)
+    impulses = rows.groupby("push_dv_mps")["push_impulse_Ns"].mean()
+    counts = (
+        rows.assign(survived=rows["survived"].fillna(False).astype(bool))
+        .groupby([*KEYS, "push_dv_mps"], sort=True)["survived"]
+        .agg(["sum", "count"])
+    )
+    cells = (counts["sum"].astype(int).astype(str) + "/" + counts["count"].astype(str)).unstack()
+    cells.columns = [level_label(dv, impulses[dv]) for dv in cells.columns]
+    return cells.reset_index()
+
+
+def survival_rates(episodes: pd.DataFrame, phase: str = "standing") -> pd.DataFrame:
+    """Long form of the survival table: controller, sim, dv, impulse, survived, pushes, rate."""
+    rows = pushes(episodes, phase)
+    grouped = rows.assign(survived=rows["survived"].fillna(False).astype(bool)).groupby(
+        [*KEYS, "push_dv_mps"], sort=True
+    )
+    table = grouped.agg(
+        impulse_Ns=("push_impulse_Ns", "mean"),
+        survived=("survived", "sum"),
+        pushes=("survived", "count"),
+    ).reset_index()
+    table["rate"] = table["survived"] / table["pushes"]
+    return table
+
+
+def walking_quality_table(episodes: pd.DataFrame) -> pd.DataFrame:
+    """Ficht & Behnke Table 1's walking quality (eq. 18) per controller x simulator, from
+    the walks: status, forward speed of the plan, e_c [m s], e_z [m s], e_v [m/s], and the CoM
+    tracking error (RMS of ||c - c^p|| [mm])."""
+    rows = walks(episodes)
+    table = (
+        rows.groupby(KEYS, sort=True)
+        .agg(
+            status=("status", lambda s: ",".join(sorted(set(s)))),
+            walk_speed_mps=("walk_speed_mps", "median"),
+            e_com=("e_com", "median"),
+            e_zmp=("e_zmp", "median"),
+            e_velocity=("e_velocity", "median"),
+            com_error_rms_mm=("com_error_rms_m", lambda s: 1e3 * s.median()),
+        )
+        .reset_index()
+    )
+    return table
+
+
+def agreement_table(episodes: pd.DataFrame, phase: str = "standing") -> pd.DataFrame:
+    """MuJoCo against PyBullet per controller: survival rate over all pushes of `phase`
+    (and the difference, percentage points) and the walk's CoM tracking error [mm] (and the
+    difference)."""
+    rates = survival_rates(episodes, phase)
+    survival = rates.groupby(KEYS)[["survived", "pushes"]].sum()
+    survival = (100.0 * survival["survived"] / survival["pushes"]).unstack("sim")
+    tracking = walks(episodes).groupby(KEYS)["com_error_rms_m"].median().unstack("sim") * 1e3
+    controllers = sorted(set(episodes["controller"]))
+    rows = []
+    for controller in controllers:
+        row = {"controller": controller}
+        for label, frame, unit in (
+            ("survival", survival, "%"),
+            ("com_rms", tracking, "mm"),
+        ):
+            values = {}
+            for sim in ("mujoco", "pybullet"):
+                value = (
+                    frame.at[controller, sim]
+                    if controller in frame.index and sim in frame.columns
+                    else np.nan
+                )
+                values[sim] = value
+                row[f"{label} {sim} {unit}"] = value
+            row[f"{label} difference {unit}"] = values["mujoco"] - values["pybullet"]
+        rows.append(row)
+    return pd.DataFrame(rows)
+
+
+def status_table(episodes: pd.DataFrame) -> pd.DataFrame:
+    """Episodes per controller x simulator by status (ok, fell, error)."""
+    table = episodes.groupby([*KEYS, "status"]).size().unstack("status", fill_value=0)
+    return table.reset_index()
+
+
+def benchmark_table(benchmark: dict) -> pd.DataFrame:
+    """A pytest-benchmark JSON document as a table: name, median, mean, stddev, min [µs], rounds."""
+    rows = []
+    for entry in benchmark.get("benchmarks", []):
+        stats = entry["stats"]
+        rows.append(
+            {
+                "benchmark": entry.get("fullname", entry["name"]),
+                "median µs": 1e6 * stats["median"],
+                "mean µs": 1e6 * stats["mean"],
+                "stddev µs": 1e6 * stats["stddev"],
+                "min µs": 1e6 * stats["min"],
+                "rounds": stats["rounds"],
+            }
+        )
+    return pd.DataFrame(rows)

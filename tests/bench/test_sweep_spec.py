@@ -1,0 +1,146 @@
+"""Sweep specs: validation before anything runs, and the expansion to episodes."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from bench.cli import main
+from bench.controllers import CONTROLLERS
+from bench.push_protocol import robot_mass
+from bench.sweep_spec import SpecError, load_spec, spec_from_mapping
+
+VALID = {"controllers": ["hold+posture"], "sims": ["mujoco"], "scenarios": ["stand"]}
+
+
+@pytest.mark.parametrize(
+    ("change", "field", "valid"),
+    [
+        ({"controllers": ["nonexistent"]}, "controllers", "hold+posture"),
+        ({"push": {"dv": [0.2, -0.1]}}, "push.dv", "positive velocity changes"),
+        ({"sims": None}, "sims", "mujoco"),
+        ({"sims": ["gazebo"]}, "sims", "mujoco, pybullet"),
+        ({"seeds": "zero"}, "seeds", "a list of integers"),
+        ({"seeds": [0.5]}, "seeds[0]", "integer"),
+        ({"scales": [0.0]}, "scales[0]", "positive number"),
+        ({"push": {"dv": [0.2], "count": "twenty"}}, "push.count", "positive integer"),
+        ({"push": {"dv": [0.2], "phases": ["running"]}}, "push.phases", "standing, walking"),
+        ({"push": {"count": 20}}, "push.dv", "missing"),
+        ({"estimator": "kalman"}, "estimator", "ground_truth"),
+        ({"colour": "red"}, "colour", "valid fields: name, controllers"),
+    ],
+)
+def test_malformed_spec_names_the_field_and_the_valid_values(change, field, valid):
+    data = {**VALID, **change}
+    data = {k: v for k, v in data.items() if v is not None}
+    with pytest.raises(SpecError) as error:
+        spec_from_mapping(data)
+    message = str(error.value)
+    assert f"'{field}" in message, message
+    assert valid in message, message
+    assert "\n" not in message
+
+
+def test_missing_required_field_is_named():
+    with pytest.raises(SpecError, match="missing field 'controllers'"):
+        spec_from_mapping({"sims": ["mujoco"], "scenarios": ["stand"]})
+
+
+def test_bad_spec_fails_before_any_episode_runs(tmp_path: Path, capsys):
+    spec = tmp_path / "bad.toml"
+    spec.write_text('controllers = ["hold+posture"]\nsims = ["all"]\n[push]\ndv = [0.3, -1]\n')
+    out = tmp_path / "results"
+    assert main(["sweep", "--spec", str(spec), "--out", str(out)]) == 2
+    error = capsys.readouterr().err.strip().splitlines()
+    assert len(error) == 1
+    assert "'push.dv'" in error[0]
+    assert not out.exists()  # nothing ran, nothing was written
+
+
+def test_all_expands_to_every_registered_controller_and_simulator():
+    spec = spec_from_mapping({"controllers": ["all"], "sims": ["all"], "scenarios": ["walk"]})
+    assert set(spec.controllers) == set(CONTROLLERS)
+    assert {e.controller for e in spec.episodes()} == set(CONTROLLERS)
+    assert {e.run.sim for e in spec.episodes()} == {"mujoco", "pybullet"}
+
+
+def test_push_protocol_expansion():
+    spec = spec_from_mapping(
+        {
+            "controllers": ["hold+posture", "preview_zmp+dcm"],
+            "sims": ["all"],
+            "scales": [1.0, 0.8],
+            "push": {"dv": [0.2, 0.4], "count": 20, "phases": ["standing", "walking"]},
+        }
+    )
+    episodes = spec.episodes()
+    assert len(episodes) == 2 * 2 * 2 * (2 * 2 * 20)
+    ids = [e.episode_id for e in episodes]
+    assert len(set(ids)) == len(ids)
+    assert ids == [e.episode_id for e in spec.episodes()]  # stable
+    for episode in episodes:
+        run = episode.run
+        # J = m dv for the robot at the episode's scale
+        assert run.push_impulse == pytest.approx(robot_mass(run.scale) * episode.push_dv_mps)
+        # survival window: 3 s after the 0.1 s push
+        push_start = run.push_time if episode.push_phase == "standing" else None
+        if push_start is not None:
+            assert run.duration == pytest.approx(push_start + 0.1 + 3.0)
+    # the same 20 directions for every controller, simulator, scale and level
+    by_group: dict = {}
+    for episode in episodes:
+        key = (episode.controller, episode.run.sim, episode.run.scale, episode.push_phase)
+        by_group.setdefault(key, {}).setdefault(episode.push_dv_mps, []).append(
+            episode.run.push_direction_deg
+        )
+    direction_sets = [tuple(v) for levels in by_group.values() for v in levels.values()]
+    assert len(set(direction_sets)) == 1
+    directions = np.array(direction_sets[0])
+    assert len(directions) == 20
+    assert np.all((directions >= 0) & (directions < 360))
+    # spread over the circle: every quadrant is pushed from (20 draws, fixed seed 0)
+    assert len(set((directions // 90).astype(int))) == 4
+    assert robot_mass(0.8) == pytest.approx(robot_mass(1.0) * 0.8**3, rel=1e-6)
+
+
+def test_walking_push_is_mid_single_support():
+    from bench.push_protocol import walking_push_time
+    from bench.scenarios import make_scenario
+    from robots.humanoid import humanoid
+    from robots.model import RobotModel
+
+    scenario = make_scenario("walk", RobotModel(humanoid()))
+    single = [p for p in scenario.phases if len(p.contacts) == 1][2]
+    start = walking_push_time(1.0, 3)
+    assert start + 0.05 == pytest.approx((single.start + single.end) / 2)
+
+
+def test_main_spec_file_is_valid():
+    spec = load_spec(Path(__file__).parents[2] / "bench" / "specs" / "main.toml")
+    assert set(spec.controllers) == set(CONTROLLERS)
+    assert spec.push is not None
+    assert len(spec.push.dv) == 5
+    assert spec.push.count == 20
+    assert len(spec.episodes()) == len(CONTROLLERS) * 2 * (1 + 5 * 20)
+
+
+@pytest.mark.parametrize("controller", ["hold+posture", "preview_control+centroidal_feedback"])
+def test_robot_is_at_rest_when_the_standing_push_starts(controller):
+    """The protocol pushes at 0.5 s: by then the standing robot has settled (its CoM speed is
+    three orders of magnitude below the pushes' 0.2-0.4 m/s)."""
+    from bench.controllers import controller_spec
+    from bench.push_protocol import PushProtocol
+    from bench.runner import EpisodeSpec, run_episode
+
+    push_time = PushProtocol(dv=(0.2,)).standing_push_time
+    pair = controller_spec(controller)
+    result = run_episode(
+        EpisodeSpec(pair.planner, pair.stabilizer, "mujoco", "stand", duration=push_time)
+    )
+    trace = result.trace
+    late = trace[trace["time"] >= push_time - 0.1]
+    speed = np.linalg.norm(late[[f"com_velocity_actual_{a}" for a in "xyz"]].to_numpy(), axis=1)
+    assert result.summary["status"] == "ok"
+    assert speed.max() < 1e-3  # [m/s]

@@ -1,0 +1,206 @@
+"""The report built from a small hand-made result set: every table has the expected rows and
+columns, and its numbers equal those computed directly from the fixture."""
+
+from __future__ import annotations
+
+import json
+from pathlib import Path
+
+import numpy as np
+import pandas as pd
+import pytest
+
+from bench.dataset import ROW_SCHEMA, ResultStore
+from reports import tables
+from reports.build import build_report
+
+CONTROLLERS = ("a+x", "b+y")
+SIMS = ("mujoco", "pybullet")
+LEVELS = (0.2, 0.4)  # dv [m/s]
+MASS = 50.0  # [kg]
+# survived pushes out of 4, per controller, sim, level (hand-picked)
+SURVIVED = {
+    ("a+x", "mujoco"): (4, 2),
+    ("a+x", "pybullet"): (3, 1),
+    ("b+y", "mujoco"): (4, 4),
+    ("b+y", "pybullet"): (4, 3),
+}
+PUSHES = 4
+# walk numbers per controller, sim: (com rms [m], planned force error [N], preview median [µs])
+WALKS = {
+    ("a+x", "mujoco"): (0.004, 0.01, 10.0),
+    ("a+x", "pybullet"): (0.006, 0.02, 12.0),
+    ("b+y", "mujoco"): (0.005, 0.03, 20.0),
+    ("b+y", "pybullet"): (0.005, 0.05, 22.0),
+}
+
+
+def _row(**values) -> dict:
+    row = {name: None for name in ROW_SCHEMA.names}
+    row.update(
+        versions_json=json.dumps({"mujoco": "4.0.0", "pybullet": "3.2.7"}),
+        centrobench_version="0.1.0",
+        git_commit="abc123",
+        cpu="test CPU",
+        seed=0,
+        scale=1.0,
+        mass_kg=MASS,
+    )
+    row.update(values)
+    return row
+
+
+@pytest.fixture(scope="module")
+def results(tmp_path_factory) -> tuple[Path, pd.DataFrame]:
+    root = tmp_path_factory.mktemp("results")
+    store = ResultStore(root)
+    store.prepare({"name": "fixture"}, "digest", resume=False, overwrite=False)
+    rows = []
+    for (controller, sim), survived_per_level in SURVIVED.items():
+        planner, stabilizer = controller.split("+")
+        for dv, survived in zip(LEVELS, survived_per_level, strict=True):
+            for k in range(PUSHES):
+                alive = k < survived
+                rows.append(
+                    _row(
+                        episode_id=f"{controller}-{sim}-{dv}-{k}",
+                        controller=controller,
+                        planner=planner,
+                        stabilizer=stabilizer,
+                        sim=sim,
+                        scenario="stand_push",
+                        push_phase="standing",
+                        push_dv_mps=dv,
+                        push_index=k,
+                        push_impulse_Ns=MASS * dv,
+                        status="ok" if alive else "fell",
+                        fell=not alive,
+                        survived=alive,
+                    )
+                )
+        rms, planned_force, preview = WALKS[(controller, sim)]
+        rows.append(
+            _row(
+                episode_id=f"{controller}-{sim}-walk",
+                controller=controller,
+                planner=planner,
+                stabilizer=stabilizer,
+                sim=sim,
+                scenario="walk",
+                status="ok",
+                fell=False,
+                com_error_rms_m=rms,
+                planned_force_N=planned_force,
+                planned_moment_Nm=2 * planned_force,
+                e_com=rms**2,
+                e_zmp=3 * rms**2,
+                e_velocity=rms,
+                walk_speed_mps=0.25,
+                lat_preview_median_us=preview,
+                lat_preview_p99_us=3 * preview,
+            )
+        )
+    for row in rows:
+        trace = None
+        if row["scenario"] == "walk":
+            time = np.arange(0.0, 1.0, 0.002)
+            trace = pd.DataFrame({"time": time})
+            for prefix in ("com_ref", "com_planned", "com_actual", "zmp_planned", "zmp_actual"):
+                trace[f"{prefix}_x"] = 0.25 * time
+                trace[f"{prefix}_y"] = 0.0
+        store.write(row, trace)
+    return root, pd.DataFrame(rows)
+
+
+def test_survival_table_counts_the_fixture(results):
+    _root, fixture = results
+    table = tables.survival_table(fixture, "standing")
+    assert list(table["controller"]) == ["a+x", "a+x", "b+y", "b+y"]
+    assert list(table["sim"]) == ["mujoco", "pybullet"] * 2
+    labels = [tables.level_label(dv, MASS * dv) for dv in LEVELS]
+    assert list(table.columns) == ["controller", "sim", *labels]
+    assert labels == ["0.2 m/s (10.0 N s)", "0.4 m/s (20.0 N s)"]
+    for _, row in table.iterrows():
+        expected = SURVIVED[(row["controller"], row["sim"])]
+        assert [row[label] for label in labels] == [f"{k}/{PUSHES}" for k in expected]
+
+
+def test_agreement_table_differences(results):
+    _, fixture = results
+    table = tables.agreement_table(fixture)
+    assert list(table["controller"]) == list(CONTROLLERS)
+    for _, row in table.iterrows():
+        rate = {
+            sim: 100 * sum(SURVIVED[(row["controller"], sim)]) / (PUSHES * len(LEVELS))
+            for sim in SIMS
+        }
+        assert row["survival mujoco %"] == pytest.approx(rate["mujoco"])
+        assert row["survival difference %"] == pytest.approx(rate["mujoco"] - rate["pybullet"])
+        rms = {sim: 1e3 * WALKS[(row["controller"], sim)][0] for sim in SIMS}
+        assert row["com_rms difference mm"] == pytest.approx(rms["mujoco"] - rms["pybullet"])
+
+
+def test_latency_projection_and_walking_tables(results):
+    _, fixture = results
+    latency = tables.latency_table(fixture)
+    projection = tables.projection_table(fixture)
+    quality = tables.walking_quality_table(fixture)
+    for table in (latency, projection, quality):
+        assert list(zip(table["controller"], table["sim"], strict=True)) == list(WALKS)
+    assert "preview median µs" in latency
+    assert "centroidal_total p99 µs" in latency
+    assert list(projection.columns[2:]) == list(tables.PROJECTION_COLUMNS)
+    for k, key in enumerate(WALKS):
+        rms, force, preview = WALKS[key]
+        assert latency["preview median µs"].iloc[k] == preview
+        assert latency["preview p99 µs"].iloc[k] == 3 * preview
+        assert projection["planned_force_N"].iloc[k] == pytest.approx(force)
+        assert projection["planned_moment_Nm"].iloc[k] == pytest.approx(2 * force)
+        assert quality["com_error_rms_mm"].iloc[k] == pytest.approx(1e3 * rms)
+        assert quality["e_zmp"].iloc[k] == pytest.approx(3 * rms**2)
+        assert quality["status"].iloc[k] == "ok"
+
+
+def test_report_files_hold_every_table(results, tmp_path: Path):
+    root, _ = results
+    benchmark = tmp_path / "benchmark.json"
+    benchmark.write_text(
+        json.dumps(
+            {
+                "benchmarks": [
+                    {
+                        "name": "test_x",
+                        "fullname": "tests/x.py::test_x",
+                        "stats": {
+                            "median": 2e-5,
+                            "mean": 2.5e-5,
+                            "stddev": 1e-6,
+                            "min": 1e-5,
+                            "rounds": 7,
+                        },
+                    }
+                ]
+            }
+        )
+    )
+    paths = build_report(root, tmp_path / "report", benchmark_json=benchmark)
+    names = {p.name for p in paths}
+    assert {"report.md", "report.html", "survival.png", "walk.png"} <= names
+    markdown = (tmp_path / "report" / "report.md").read_text()
+    page = (tmp_path / "report" / "report.html").read_text()
+    for title in (
+        "Latency per stage",
+        "Wrench projection errors",
+        "Push survival, standing",
+        "Walking quality",
+        "MuJoCo against PyBullet",
+        "pytest-benchmark",
+    ):
+        assert title in markdown
+        assert title in page
+    assert "| a+x          | pybullet | 3/4" in markdown
+    assert "tests/x.py::test_x" in markdown
+    assert "| 20 " in markdown
+    assert "abc123" in markdown
+    assert "test CPU" in markdown
+    assert "mujoco 4.0.0" in markdown
