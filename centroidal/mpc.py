@@ -147,8 +147,15 @@ class MpcModel:
         stacked = np.hstack(generators)  # (6, sum n_k)
         forces = stacked[:3]
         about = np.repeat(np.asarray(points, dtype=float), sizes, axis=0)  # c-hat per column
-        moments = stacked[3:] - np.cross(about, forces.T).T
+        fx, fy, fz = forces
+        px, py, pz = about.T
+        moments = stacked[3:] - np.array([py * fz - pz * fy, pz * fx - px * fz, px * fy - py * fx])
         return np.split(np.vstack([forces, moments]), np.cumsum(sizes)[:-1], axis=1)
+
+    def predict_outputs(self, x0: np.ndarray, inputs: np.ndarray) -> np.ndarray:
+        """Outputs y_1..y_N (N, 6) = [c, alpha] for inputs u_0..u_{N-1} (N, 6):
+        Psi x0 + Phi U + Y_g (the same prediction as `predict`, in one product)."""
+        return (self.psi @ x0 + self.phi @ np.ravel(inputs) + self.y_gravity).reshape(-1, 6)
 
     def predict(self, x0: np.ndarray, inputs: np.ndarray) -> np.ndarray:
         """States x_1..x_N (N, 12) for inputs u_0..u_{N-1} (N, 6)."""

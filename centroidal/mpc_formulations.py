@@ -253,6 +253,7 @@ class NativePiqp:
         self._lower = np.concatenate([np.zeros(n_lambda), np.full(6 * n, -np.inf)])
         self._upper = np.full(n_lambda + 6 * n, np.inf)
         self._gradient_u = -np.tile(model.r_input * model.u_reference, n)
+        self._equality: scipy.sparse.csc_matrix | None = None
         self._piqp = piqp
         self.solver = piqp.SparseSolver()
         for key, value in _TOLERANCES["piqp"].items():
@@ -270,10 +271,12 @@ class NativePiqp:
             columns[k, : w.shape[1]] = w.T
             if problem.upper is not None:
                 upper[k * r : k * r + w.shape[1]] = problem.upper[k]
-        equality = scipy.sparse.csc_matrix(
-            (np.concatenate([-columns.ravel(), np.ones(6 * n)]), self._indices, self._indptr),
-            shape=self._shape,
-        )
+        if self._equality is None:
+            self._equality = scipy.sparse.csc_matrix(
+                (np.ones(len(self._indices)), self._indices, self._indptr), shape=self._shape
+            )
+        equality = self._equality  # same pattern every period: new values in place
+        equality.data[: columns.size] = -columns.ravel()
         free = m.psi @ problem.x0 + m.y_gravity - problem.y_reference.ravel()
         gradient = np.zeros(self._shape[1])
         gradient[self.n_lambda :] = 2.0 * (m.phi.T @ (m.q_stacked * free) + self._gradient_u)

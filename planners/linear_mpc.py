@@ -148,7 +148,7 @@ class LinearMpcPlanner:
                 [g @ lam for g, lam in zip(generators, lambdas, strict=True)]
             )  # about the origin
             inputs = np.array([m @ lam for m, lam in zip(maps, lambdas, strict=True)])
-            predicted = self.model.predict(self.x, inputs)
+            predicted = self.model.predict_outputs(self.x, inputs)
             self._prediction = (
                 np.concatenate([[t], samples + self.dtau]),
                 np.vstack([self.x[:3], predicted[:, :3]]),
