@@ -39,6 +39,9 @@ class Executor(Protocol):
     def close(self) -> None: ...
 
 
+_THREAD_VARIABLES = ("OMP_NUM_THREADS", "OPENBLAS_NUM_THREADS", "MKL_NUM_THREADS")
+
+
 class LocalExecutor:
     def __init__(self, workers: int | None = None) -> None:
         if workers is not None and workers < 1:
@@ -47,6 +50,12 @@ class LocalExecutor:
         self._pool: ProcessPoolExecutor | None = None
 
     def _new_pool(self) -> ProcessPoolExecutor:
+        # One BLAS / OpenMP thread per worker: the pool already uses every core, and the
+        # episodes' small matrix products lose more to oversubscribed threads than they gain
+        # (measured: 5-10 % faster per episode with 2 workers on 2 cores). The workers inherit
+        # this process's environment; a value the user set is kept.
+        for variable in _THREAD_VARIABLES:
+            os.environ.setdefault(variable, "1")
         return ProcessPoolExecutor(self.workers, mp_context=multiprocessing.get_context("spawn"))
 
     def map_unordered(

@@ -9,6 +9,7 @@ time. The runner itself never raises for these: the trace up to that point is ke
 
 from __future__ import annotations
 
+import math
 import time
 import traceback
 from dataclasses import dataclass, field
@@ -65,9 +66,14 @@ class StageError(RuntimeError):
 
 
 def _check_finite(stage: str, *arrays) -> None:
+    """StageError if any entry is NaN or infinite: one sum over all arrays (a NaN or an
+    infinity makes the sum non-finite; finite entries would need to exceed 1e308 to)."""
+    total = 0.0
     for array in arrays:
-        if array is not None and not np.all(np.isfinite(array)):
-            raise StageError(f"{stage} returned a non-finite value")
+        if array is not None:
+            total += float(array.sum())
+    if not math.isfinite(total):
+        raise StageError(f"{stage} returned a non-finite value")
 
 
 def _check_plan(plan: CentroidalPlan) -> None:

@@ -81,6 +81,8 @@ class WholeBodyIK:
         self.max_step = robot.array("velocity_limit") * dt
         self.nominal = np.array(robot.nominal_posture)
         self.q = pin.neutral(self.model)
+        self._posture_rows = np.zeros((self.n_joints, self.nv))  # the joints' own rows
+        self._posture_rows[:, 6:] = np.eye(self.n_joints)
         # The base step is bounded too, by 1 m / 1 rad per call: never active in practice, and
         # interior-point solvers (clarabel) fail on huge placeholder bounds.
         self._base_step = 1.0
@@ -130,9 +132,7 @@ class WholeBodyIK:
         base_jacobian = pin.getFrameJacobian(model, data, self.base_frame, pin.LOCAL_WORLD_ALIGNED)
         base_error = pin.log3(_quaternion_matrix(targets.base_orientation_world) @ base.rotation.T)
         add(base_jacobian[3:], base_error, w.base_orientation)
-        posture = np.zeros((self.n_joints, self.nv))
-        posture[:, 6:] = np.eye(self.n_joints)
-        add(posture, self.nominal - q[7:], w.posture)
+        add(self._posture_rows, self.nominal - q[7:], w.posture)
         if w.angular_momentum > 0:
             centroidal = pin.computeCentroidalMap(model, data, q)
             add(centroidal[3:], np.zeros(3), w.angular_momentum)

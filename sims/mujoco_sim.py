@@ -106,7 +106,7 @@ class MujocoSimulator(SimulatorBase):
             sensor("imu_gyro"),
             sensor("imu_accel"),
         )
-        self._force6 = np.zeros(6)
+        self._contact_cache: tuple[np.ndarray, np.ndarray, np.ndarray] | None = None
 
     def set_state(self, state: RobotState) -> None:
         d, r, v = self.data, self._root_qpos, self._root_dof
@@ -122,6 +122,7 @@ class MujocoSimulator(SimulatorBase):
         d.qvel[self._dof_idx] = state.joint_velocity
         d.qacc_warmstart[:] = 0.0
         mujoco.mj_forward(self.model, d)
+        self._contact_cache = None
 
     def ground_truth(self) -> RobotState:
         d, r, v = self.data, self._root_qpos, self._root_dof
@@ -140,50 +141,60 @@ class MujocoSimulator(SimulatorBase):
 
     def _physics_step(self, torque: np.ndarray, forces: list[tuple[str, np.ndarray]]) -> None:
         d = self.data
+        self._contact_cache = None
         d.ctrl[self._actuator_idx] = torque
         d.xfrc_applied[:] = 0.0
         for link, force in forces:  # xfrc_applied acts at the body's centre of mass
             d.xfrc_applied[self._body_id[link], :3] += force
         mujoco.mj_step(self.model, d)
 
-    def _contacts(self):
-        """(robot body id, contact point world, force on the robot world) per active contact
-        between a robot geom and a scene geom."""
+    def _contacts(self) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """Active contacts between a robot geom and a scene geom, as arrays over the contacts:
+        robot body ids (n,), contact points world (n, 3) [m], forces on the robot world
+        (n, 3) [N]. Read once per state: cached until the next physics step or `set_state`."""
+        if self._contact_cache is not None:
+            return self._contact_cache
         m, d = self.model, self.data
-        for i in range(d.ncon):
-            contact = d.contact[i]
-            g1, g2 = contact.geom1, contact.geom2
-            if self._scene_geom[g1] == self._scene_geom[g2]:
-                continue
-            mujoco.mj_contactForce(m, d, i, self._force6)
-            frame = contact.frame.reshape(3, 3)  # rows: normal (geom1 -> geom2), tangents
-            force_on_geom2 = frame.T @ self._force6[:3]
-            if self._scene_geom[g1]:
-                yield m.geom_bodyid[g2], contact.pos, force_on_geom2
-            else:
-                yield m.geom_bodyid[g1], contact.pos, -force_on_geom2
+        contact = d.contact
+        geom1, geom2 = contact.geom1[: d.ncon], contact.geom2[: d.ncon]
+        scene1, scene2 = self._scene_geom[geom1], self._scene_geom[geom2]
+        keep = np.flatnonzero(scene1 != scene2)
+        forces = np.empty((len(keep), 6))
+        for j, i in enumerate(keep):
+            mujoco.mj_contactForce(m, d, int(i), forces[j])
+        frames = contact.frame[keep].reshape(-1, 3, 3)  # rows: normal (geom1 -> geom2), tangents
+        force_on_geom2 = np.einsum("kji,kj->ki", frames, forces[:, :3])
+        robot_is_2 = scene1[keep]
+        bodies = np.where(robot_is_2, m.geom_bodyid[geom2[keep]], m.geom_bodyid[geom1[keep]])
+        on_robot = np.where(robot_is_2[:, None], force_on_geom2, -force_on_geom2)
+        self._contact_cache = (bodies, contact.pos[keep].copy(), on_robot)
+        return self._contact_cache
 
     def _links_touching_scene(self) -> set[str]:
-        return {self._body_name[b] for b, _, _ in self._contacts()}
+        return {self._body_name[b] for b in self._contacts()[0].tolist()}
 
     def _read_sensors(self) -> Sensors:
         m, d = self.model, self.data
         mujoco.mj_forward(m, d)  # sensors, contacts and poses of the state after the step
+        self._contact_cache = None
         assert self.robot is not None
         n_limbs = len(self.robot.limbs)
         wrench = np.zeros((n_limbs, 6))
         flags = np.zeros(n_limbs, dtype=bool)
-        limb_of_body = {int(b): k for k, b in enumerate(self._limb_body)}
-        for body, point, force in self._contacts():
-            k = limb_of_body.get(int(body))
-            if k is None:
-                continue
-            site = self._limb_site[k]
-            rotation = d.site_xmat[site].reshape(3, 3)
-            moment = cross(point - d.site_xpos[site], force)
-            wrench[k, :3] += rotation.T @ force
-            wrench[k, 3:] += rotation.T @ moment
-            flags[k] = True
+        bodies, points, forces = self._contacts()
+        if len(bodies):
+            moments_origin = cross(points, forces)
+            for k, body in enumerate(self._limb_body):
+                on_limb = bodies == body
+                if not on_limb.any():
+                    continue
+                site = self._limb_site[k]
+                rotation = d.site_xmat[site].reshape(3, 3)
+                force = forces[on_limb].sum(axis=0)
+                moment = moments_origin[on_limb].sum(axis=0) - cross(d.site_xpos[site], force)
+                wrench[k, :3] = rotation.T @ force
+                wrench[k, 3:] = rotation.T @ moment
+                flags[k] = True
         state = self.ground_truth()
         return Sensors(
             time=self.time,

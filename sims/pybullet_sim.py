@@ -162,6 +162,7 @@ class PybulletSimulator(SimulatorBase):
         w, x, y, z = _wxyz(info[4])
         self._base_inertial_conjugate = np.array([w, -x, -y, -z])
         self._imu_velocity_before = np.zeros(3)
+        self._contact_cache: tuple[list[int], np.ndarray, np.ndarray] | None = None
 
     # PyBullet's base pose is its inertial frame; ours is the link frame.
     def _base_link_pose(self) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
@@ -193,6 +194,7 @@ class PybulletSimulator(SimulatorBase):
         ):
             pb.resetJointState(body, j, float(q), float(dq), physicsClientId=c)
         self._imu_velocity_before = self._imu_state()[2]
+        self._contact_cache = None
 
     def ground_truth(self) -> RobotState:
         position, _, com, quaternion = self._base_link_pose()
@@ -218,6 +220,7 @@ class PybulletSimulator(SimulatorBase):
 
     def _physics_step(self, torque: np.ndarray, forces: list[tuple[str, np.ndarray]]) -> None:
         c, body = self.client, self.body
+        self._contact_cache = None
         pb.setJointMotorControlArray(
             body, self._joint_idx, pb.TORQUE_CONTROL, forces=torque.tolist(), physicsClientId=c
         )
@@ -233,18 +236,32 @@ class PybulletSimulator(SimulatorBase):
         self._imu_velocity_before = self._imu_state()[2]
         pb.stepSimulation(physicsClientId=c)
 
-    def _contacts(self):
-        """(link index, point world, force on the robot world) per touching contact point."""
+    def _contacts(self) -> tuple[list[int], np.ndarray, np.ndarray]:
+        """Touching contact points as (robot link indices, points world (n, 3) [m], forces on
+        the robot world (n, 3) [N]). Read once per state: cached until the next physics step
+        or `set_state`."""
+        if self._contact_cache is not None:
+            return self._contact_cache
         c = self.client
+        links, points, forces = [], [], []
         for scene_body in self._scene_bodies:
             for p in pb.getContactPoints(bodyA=self.body, bodyB=scene_body, physicsClientId=c):
                 if p[8] > 0.0 and p[9] <= 0.0:  # separated and carrying no force
                     continue
-                force = p[9] * np.array(p[7]) + p[10] * np.array(p[11]) + p[12] * np.array(p[13])
-                yield p[3], np.array(p[6]), force
+                links.append(p[3])
+                points.append(p[6])
+                # normal force along the normal (B -> A, on the robot), two friction directions
+                forces.append([p[9], *p[7], p[10], *p[11], p[12], *p[13]])
+        if forces:
+            f = np.array(forces)
+            on_robot = f[:, :1] * f[:, 1:4] + f[:, 4:5] * f[:, 5:8] + f[:, 8:9] * f[:, 9:12]
+            self._contact_cache = (links, np.array(points), on_robot)
+        else:
+            self._contact_cache = ([], np.zeros((0, 3)), np.zeros((0, 3)))
+        return self._contact_cache
 
     def _links_touching_scene(self) -> set[str]:
-        return {self._link_name.get(link, f"link {link}") for link, _, _ in self._contacts()}
+        return {self._link_name.get(link, f"link {link}") for link in self._contacts()[0]}
 
     def _read_sensors(self) -> Sensors:
         assert self.robot is not None and self.scene is not None
@@ -252,19 +269,24 @@ class PybulletSimulator(SimulatorBase):
         n_limbs = len(self.robot.limbs)
         wrench = np.zeros((n_limbs, 6))
         flags = np.zeros(n_limbs, dtype=bool)
-        frames = pb.getLinkStates(
-            self.body, self._limb_frame, computeForwardKinematics=1, physicsClientId=c
-        )
-        limb_of_link = {link: k for k, link in enumerate(self._limb_link)}
-        for link, point, force in self._contacts():
-            k = limb_of_link.get(link)
-            if k is None:
-                continue
-            origin = np.array(frames[k][4])
-            rotation = quaternion_to_matrix(_wxyz(frames[k][5]))
-            wrench[k, :3] += rotation.T @ force
-            wrench[k, 3:] += rotation.T @ cross(point - origin, force)
-            flags[k] = True
+        links, points, forces = self._contacts()
+        if links:
+            frames = pb.getLinkStates(
+                self.body, self._limb_frame, computeForwardKinematics=1, physicsClientId=c
+            )
+            link_array = np.array(links)
+            moments_origin = cross(points, forces)
+            for k, link in enumerate(self._limb_link):
+                on_limb = link_array == link
+                if not on_limb.any():
+                    continue
+                origin = np.array(frames[k][4])
+                rotation = quaternion_to_matrix(_wxyz(frames[k][5]))
+                force = forces[on_limb].sum(axis=0)
+                moment = moments_origin[on_limb].sum(axis=0) - cross(origin, force)
+                wrench[k, :3] = rotation.T @ force
+                wrench[k, 3:] = rotation.T @ moment
+                flags[k] = True
         state = self.ground_truth()
         _, imu_quat, imu_velocity, imu_omega = self._imu_state()
         imu_rotation = quaternion_to_matrix(imu_quat)

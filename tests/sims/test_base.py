@@ -7,7 +7,7 @@ from robots.humanoid import humanoid
 from robots.model import RobotModel
 from robots.scene import Scene
 from robots.types import JointCommand
-from sims.base import make_simulator, tilt_angle
+from sims.base import cross, make_simulator, tilt_angle
 from sims.servo import servo_torque
 
 
@@ -36,6 +36,14 @@ def test_scene_needs_whole_physics_steps_per_control_period():
 def test_unknown_simulator_lists_the_known_ones():
     with pytest.raises(KeyError, match="mujoco, pybullet"):
         make_simulator("gazebo")
+
+
+def test_cross_of_vectors_and_of_stacks_is_the_cross_product():
+    rng = np.random.default_rng(3)
+    a, b = rng.normal(size=(5, 3)), rng.normal(size=(5, 3))
+    np.testing.assert_allclose(cross(a, b), np.cross(a, b), atol=1e-15)
+    np.testing.assert_allclose(cross(a[0], b[0]), np.cross(a[0], b[0]), atol=1e-15)
+    np.testing.assert_allclose(cross(np.eye(3)[0], np.eye(3)[1]), [0.0, 0.0, 1.0])
 
 
 def test_tilt_angle():
