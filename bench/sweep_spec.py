@@ -33,7 +33,7 @@ from pathlib import Path
 from typing import Any
 
 from bench.controllers import CONTROLLERS, controller_spec
-from bench.push_protocol import PHASES, PushProtocol, push_episodes
+from bench.push_protocol import PHASES, PushProtocol, push_episodes, walking_push_time
 from bench.runner import EpisodeSpec
 from bench.scenarios import SCENARIOS
 from robots.estimators import ESTIMATORS
@@ -57,13 +57,16 @@ class Episode:
     keep_trace: bool = False
 
     def labels(self) -> dict[str, Any]:
+        push_time = self.run.push_time
+        if push_time is None and self.run.push_step is not None:  # a walking push: its start
+            push_time = walking_push_time(self.run.scale, self.run.push_step)
         return {
             "episode_id": self.episode_id,
             "controller": self.controller,
             "push_phase": self.push_phase,
             "push_dv_mps": self.push_dv_mps,
             "push_index": self.push_index,
-            "push_time_s": self.run.push_time,
+            "push_time_s": push_time,
             "push_step": self.run.push_step,
             "push_impulse_Ns": self.run.push_impulse,
             "push_direction_deg": self.run.push_direction_deg,

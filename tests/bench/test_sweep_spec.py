@@ -115,6 +115,16 @@ def test_walking_push_is_mid_single_support():
     single = [p for p in scenario.phases if len(p.contacts) == 1][2]
     start = walking_push_time(1.0, 3)
     assert start + 0.05 == pytest.approx((single.start + single.end) / 2)
+    # and the sweep's rows record that start for walking pushes
+    spec = spec_from_mapping(
+        {
+            "controllers": ["hold+posture"],
+            "sims": ["mujoco"],
+            "scenarios": [],
+            "push": {"phases": ["walking"], "dv": [0.2], "count": 2},
+        }
+    )
+    assert [e.labels()["push_time_s"] for e in spec.episodes()] == [start, start]
 
 
 def test_main_spec_file_is_valid():
