@@ -32,11 +32,14 @@ FORMULATIONS = (
 )
 DEFAULT_FORMULATION = "native:piqp"
 
+# PIQP at 1e-6 / 1e-7 rather than 1e-8 / 1e-9: 1-2 fewer interior-point iterations of 6-14
+# (walk update 5.3 -> 4.7 ms median, `make benchmark`, 2026-11-23) for a planned wrench that
+# moves by at most 1.2 mN of ~570 N; the plan stays in the cone (lambda >= 0 is enforced).
 _TOLERANCES = {
     "osqp": {"eps_abs": 1e-7, "eps_rel": 1e-7, "polish": True, "max_iter": 20000},
     "clarabel": {"tol_gap_abs": 1e-9, "tol_gap_rel": 1e-9, "tol_feas": 1e-9},
     "proxqp": {"eps_abs": 1e-9, "eps_rel": 0.0},
-    "piqp": {"eps_abs": 1e-8, "eps_rel": 1e-9, "preconditioner_reuse_on_update": True},
+    "piqp": {"eps_abs": 1e-6, "eps_rel": 1e-7, "preconditioner_reuse_on_update": True},
 }
 
 
