@@ -90,6 +90,37 @@ def cross(a: np.ndarray, b: np.ndarray) -> np.ndarray:
     return np.column_stack([a1 * b2 - a2 * b1, a2 * b0 - a0 * b2, a0 * b1 - a1 * b0])
 
 
+def limb_wrenches(
+    contact_owner: np.ndarray,
+    points_world: np.ndarray,
+    forces_world: np.ndarray,
+    limb_owner: np.ndarray,
+    frame_origin_world: np.ndarray,
+    frame_rotation_world: np.ndarray,
+) -> tuple[np.ndarray, np.ndarray]:
+    """The contact wrench on each limb (k, 6), force [N] and moment [N m] about its frame's
+    origin in its frame's axes, and whether the limb touches (k,): the contacts (n,) whose
+    owner (body or link id) is the limb's, with points (n, 3) [m] and forces on the robot
+    (n, 3) [N] in world; frames as origins (k, 3) [m] and rotations (k, 3, 3) in world."""
+    n_limbs = len(limb_owner)
+    wrench = np.zeros((n_limbs, 6))
+    flags = np.zeros(n_limbs, dtype=bool)
+    if len(contact_owner) == 0:
+        return wrench, flags
+    moments_origin = cross(points_world, forces_world)
+    for k, owner in enumerate(limb_owner):
+        on_limb = contact_owner == owner
+        if not on_limb.any():
+            continue
+        force = forces_world[on_limb].sum(axis=0)
+        moment = moments_origin[on_limb].sum(axis=0) - cross(frame_origin_world[k], force)
+        rotation = frame_rotation_world[k]
+        wrench[k, :3] = rotation.T @ force
+        wrench[k, 3:] = rotation.T @ moment
+        flags[k] = True
+    return wrench, flags
+
+
 def tilt_angle(quaternion_wxyz: np.ndarray) -> float:
     """Angle [rad] between the body's z axis and the world's z axis."""
     _, x, y, _ = quaternion_wxyz

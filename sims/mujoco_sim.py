@@ -17,7 +17,7 @@ from robots.build import generate
 from robots.scene import Scene
 from robots.spec import RobotDescription
 from robots.types import MassProperties, RobotState, Sensors
-from sims.base import SimulatorBase, cross, quaternion_to_matrix
+from sims.base import SimulatorBase, limb_wrenches, quaternion_to_matrix
 
 CONTACT_SOLREF = (0.005, 1.0)
 SCENE_CONTYPE, SCENE_CONAFFINITY = 0, 1
@@ -178,23 +178,15 @@ class MujocoSimulator(SimulatorBase):
         mujoco.mj_forward(m, d)  # sensors, contacts and poses of the state after the step
         self._contact_cache = None
         assert self.robot is not None
-        n_limbs = len(self.robot.limbs)
-        wrench = np.zeros((n_limbs, 6))
-        flags = np.zeros(n_limbs, dtype=bool)
         bodies, points, forces = self._contacts()
-        if len(bodies):
-            moments_origin = cross(points, forces)
-            for k, body in enumerate(self._limb_body):
-                on_limb = bodies == body
-                if not on_limb.any():
-                    continue
-                site = self._limb_site[k]
-                rotation = d.site_xmat[site].reshape(3, 3)
-                force = forces[on_limb].sum(axis=0)
-                moment = moments_origin[on_limb].sum(axis=0) - cross(d.site_xpos[site], force)
-                wrench[k, :3] = rotation.T @ force
-                wrench[k, 3:] = rotation.T @ moment
-                flags[k] = True
+        wrench, flags = limb_wrenches(
+            bodies,
+            points,
+            forces,
+            self._limb_body,
+            d.site_xpos[self._limb_site],
+            d.site_xmat[self._limb_site].reshape(-1, 3, 3),
+        )
         state = self.ground_truth()
         return Sensors(
             time=self.time,

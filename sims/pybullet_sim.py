@@ -32,6 +32,7 @@ from sims.base import (
     SimulatorBase,
     SimulatorError,
     cross,
+    limb_wrenches,
     quaternion_product,
     quaternion_to_matrix,
 )
@@ -266,27 +267,18 @@ class PybulletSimulator(SimulatorBase):
     def _read_sensors(self) -> Sensors:
         assert self.robot is not None and self.scene is not None
         c = self.client
-        n_limbs = len(self.robot.limbs)
-        wrench = np.zeros((n_limbs, 6))
-        flags = np.zeros(n_limbs, dtype=bool)
         links, points, forces = self._contacts()
-        if links:
-            frames = pb.getLinkStates(
-                self.body, self._limb_frame, computeForwardKinematics=1, physicsClientId=c
-            )
-            link_array = np.array(links)
-            moments_origin = cross(points, forces)
-            for k, link in enumerate(self._limb_link):
-                on_limb = link_array == link
-                if not on_limb.any():
-                    continue
-                origin = np.array(frames[k][4])
-                rotation = quaternion_to_matrix(_wxyz(frames[k][5]))
-                force = forces[on_limb].sum(axis=0)
-                moment = moments_origin[on_limb].sum(axis=0) - cross(origin, force)
-                wrench[k, :3] = rotation.T @ force
-                wrench[k, 3:] = rotation.T @ moment
-                flags[k] = True
+        frames = pb.getLinkStates(
+            self.body, self._limb_frame, computeForwardKinematics=1, physicsClientId=c
+        )
+        wrench, flags = limb_wrenches(
+            np.array(links),
+            points,
+            forces,
+            np.array(self._limb_link),
+            np.array([frame[4] for frame in frames]),
+            np.array([quaternion_to_matrix(_wxyz(frame[5])) for frame in frames]),
+        )
         state = self.ground_truth()
         _, imu_quat, imu_velocity, imu_omega = self._imu_state()
         imu_rotation = quaternion_to_matrix(imu_quat)

@@ -7,7 +7,7 @@ from robots.humanoid import humanoid
 from robots.model import RobotModel
 from robots.scene import Scene
 from robots.types import JointCommand
-from sims.base import cross, make_simulator, tilt_angle
+from sims.base import cross, limb_wrenches, make_simulator, tilt_angle
 from sims.servo import servo_torque
 
 
@@ -44,6 +44,34 @@ def test_cross_of_vectors_and_of_stacks_is_the_cross_product():
     np.testing.assert_allclose(cross(a, b), np.cross(a, b), atol=1e-15)
     np.testing.assert_allclose(cross(a[0], b[0]), np.cross(a[0], b[0]), atol=1e-15)
     np.testing.assert_allclose(cross(np.eye(3)[0], np.eye(3)[1]), [0.0, 0.0, 1.0])
+
+
+def test_limb_wrenches_sum_each_limbs_contacts_about_its_frame():
+    """Two 100 N vertical contacts 0.1 m either side of limb 7's frame origin (x), one lateral
+    10 N contact on an unknown body: limb 7 carries 200 N and no moment; limb 9 nothing. The
+    frame is turned 90 deg about z, so a world x force reads as -y in it."""
+    owner = np.array([7, 7, 3])
+    points = np.array([[1.1, 0.0, 0.0], [0.9, 0.0, 0.0], [0.0, 0.0, 0.0]])
+    forces = np.array([[0.0, 0.0, 100.0], [0.0, 0.0, 100.0], [10.0, 0.0, 0.0]])
+    quarter = np.array([[0.0, -1.0, 0.0], [1.0, 0.0, 0.0], [0.0, 0.0, 1.0]])
+    origins = np.array([[1.0, 0.0, 0.0], [5.0, 5.0, 0.0]])
+    wrench, flags = limb_wrenches(
+        owner, points, forces, np.array([7, 9]), origins, np.array([quarter, np.eye(3)])
+    )
+    np.testing.assert_allclose(wrench[0], [0, 0, 200, 0, 0, 0], atol=1e-12)
+    np.testing.assert_allclose(wrench[1], np.zeros(6))
+    assert flags.tolist() == [True, False]
+    # one off-centre contact: moment (p - o) x f = (0.1, 0, 0) x (0, 0, 100) = (0, -10, 0)
+    # in world, which is (-10, 0, 0) in the turned frame (R^T (0, -10, 0))
+    wrench, _ = limb_wrenches(
+        owner[:1], points[:1], forces[:1], np.array([7]), origins[:1], quarter[None]
+    )
+    np.testing.assert_allclose(wrench[0], [0, 0, 100, -10, 0, 0], atol=1e-12)
+    empty, none = limb_wrenches(
+        np.zeros(0), np.zeros((0, 3)), np.zeros((0, 3)), np.array([7]), origins[:1], quarter[None]
+    )
+    assert not none.any()
+    assert not empty.any()
 
 
 def test_tilt_angle():
