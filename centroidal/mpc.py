@@ -31,6 +31,14 @@ Formulations, all on the same problem (`FORMULATIONS`):
   once with every sample padded to the largest ridge count (absent ridges bounded to zero).
 - `casadi:<plugin>` (osqp, qpoases): the same padded sparse form as one `casadi.conic`, built
   once with its sparsity; each period passes new numbers.
+- `native:piqp`: PIQP's own API on the partially condensed form (lambda and U), set up once.
+- `face:<solver>` (quadprog, daqp; `face:quadprog` is the default): the same feasible wrenches
+  with each sample's cone by its faces (Caron et al. 2015), over U alone (6N variables): the
+  Hessian 2M is constant, so quadprog gets its inverse Cholesky factor once. It drops the
+  eps ||lambda||^2 regulariser, which only makes the ridge problem strictly convex (the
+  formulations still agree within 0.05 N / N m, faces active or not), and cannot bound ridge
+  forces. Written down as our choice for speed: the decision variables of the issue (lambda)
+  remain in every other formulation.
 """
 
 from __future__ import annotations
@@ -169,13 +177,17 @@ class MpcModel:
 
 @dataclass
 class MpcProblem:
-    """One period's data: W_k per sample, the initial state, the output references (N, 6) and
-    optional ridge-force upper bounds per sample."""
+    """One period's data: W_k per sample, the initial state, the output references (N, 6),
+    optional ridge-force upper bounds per sample and, for the face form, each sample's G_k
+    (moments about the origin; the same array object for the samples of one contact phase) and
+    c-hat_k (N, 3) [m] from which W_k was made."""
 
     maps: list[np.ndarray]
     x0: np.ndarray
     y_reference: np.ndarray
     upper: list[np.ndarray] | None = None
+    generators: list[np.ndarray] | None = None
+    points: np.ndarray | None = None
 
     @property
     def sizes(self) -> list[int]:
@@ -199,14 +211,20 @@ def condensed(model: MpcModel, problem: MpcProblem) -> tuple[np.ndarray, np.ndar
         hessian[offsets[k] : offsets[k + 1]] = w.T @ middle_times_w[6 * k : 6 * k + 6]
     hessian = hessian + hessian.T  # 2 W^T M W, symmetrised
     hessian[np.diag_indices(n)] += 2.0 * model.weights.ridge
-    free = model.psi @ problem.x0 + model.y_gravity - problem.y_reference.ravel()
-    linear = model.phi.T @ (model.q_stacked * free) - np.tile(
-        model.r_input * model.u_reference, model.horizon
-    )
-    gradient = np.concatenate(
-        [2.0 * w.T @ linear[6 * k : 6 * k + 6] for k, w in enumerate(problem.maps)]
-    )
+    linear = input_gradient(model, problem)
+    gradient = np.concatenate([w.T @ linear[6 * k : 6 * k + 6] for k, w in enumerate(problem.maps)])
     return hessian, gradient
+
+
+def input_gradient(model: MpcModel, problem: MpcProblem) -> np.ndarray:
+    """l (6N): the cost's linear term over the stacked inputs U, so that the cost is
+    U^T M U + l^T U + const with the constant M = Phi^T Q Phi + R (`model.middle`):
+    l = 2 (Phi^T Q (Psi x0 + Y_g - Y_ref) - R U_ref)."""
+    free = model.psi @ problem.x0 + model.y_gravity - problem.y_reference.ravel()
+    return 2.0 * (
+        model.phi.T @ (model.q_stacked * free)
+        - np.tile(model.r_input * model.u_reference, model.horizon)
+    )
 
 
 def sparse_form(model: MpcModel, problem: MpcProblem, pad_to: int | None = None):

@@ -7,8 +7,9 @@ Each control period (dt = 2 ms):
    so 2 s like preview control); each sample's contacts from the scenario's phase at its
    start; the output references c_ref (the same rules as preview control, Sec. V-B) and a zero
    base angle at t + (k+1) dtau.
-2. preview (here: the MPC solve): lambda over the horizon; the first sample's contact wrench
-   G_0 lambda_0 is the planned wrench. It lies in the contact cone by construction.
+2. preview (here: the MPC solve): the contact wrench of every horizon sample, G_k lambda_k
+   (ridge formulations) or directly on the cone's faces (face formulations, the default); the
+   first sample's is the planned wrench. It lies in the contact cone by construction.
 3. projection: the planned resultant is still projected onto the current contacts (eqs. 9-10),
    exactly as for preview control, so that `projection_error` measures, rather than assumes,
    that the MPC's wrench is feasible (it comes out at solver tolerance).
@@ -28,7 +29,7 @@ import time
 
 import numpy as np
 
-from centroidal.mpc import GRAVITY, MpcModel, MpcProblem, MpcSolverError, MpcWeights, split
+from centroidal.mpc import GRAVITY, MpcModel, MpcProblem, MpcSolverError, MpcWeights
 from centroidal.mpc_formulations import DEFAULT_FORMULATION, make_formulation
 from centroidal.projection import DEFAULT_BACKEND, WrenchProjector, project_resultant
 from centroidal.rotations import exp, from_matrix, log, to_matrix
@@ -58,6 +59,11 @@ class LinearMpcPlanner:
     ) -> None:
         if ridge_upper is not None and not ridge_upper > 0:
             raise ValueError(f"ridge_upper must be a positive force [N] or None, got {ridge_upper}")
+        if ridge_upper is not None and formulation.startswith("face:"):
+            raise ValueError(
+                f"ridge_upper bounds ridge forces, which {formulation!r} does not have: "
+                "choose a ridge formulation (dense:, sparse:, cvxpy:, casadi: or native:)"
+            )
         self.dt, self.horizon, self.dtau = dt, int(horizon), float(dtau)
         self.formulation_name = formulation
         self.weights = weights or MpcWeights()
@@ -93,6 +99,11 @@ class LinearMpcPlanner:
             position, rotation = robot.frame_pose(state, limb.contact_frame)
             self.start_pose[limb.name] = (position, from_matrix(rotation))
         self._phase_contacts = PhaseContacts(self.surfaces)
+        faces_of = getattr(self.formulation, "faces_of", None)
+        if faces_of is not None:  # the face form: every phase's faces now, not mid-episode
+            for phase in scenario.phases:
+                contacts, _ = self._phase_contacts(phase)
+                faces_of(contacts.matrix)
         self._prediction: tuple[np.ndarray, np.ndarray] | None = None  # (times, CoM)
         self._last_plan: tuple[float, np.ndarray] | None = None  # (start, G lambda per sample)
         self.solver_failures = 0
@@ -139,15 +150,13 @@ class LinearMpcPlanner:
             if self.ridge_upper is None
             else [np.full(m.shape[1], self.ridge_upper) for m in maps]
         )
-        problem = MpcProblem(maps, self.x.copy(), y_reference, upper)
+        problem = MpcProblem(maps, self.x.copy(), y_reference, upper, generators, points)
         try:
             if generators[0].shape[1] == 0:
                 raise MpcSolverError("no contact at the horizon's first sample")
-            lambdas = split(self.formulation.solve(problem), problem.sizes)
-            contact_wrenches = np.array(
-                [g @ lam for g, lam in zip(generators, lambdas, strict=True)]
-            )  # about the origin
-            inputs = np.array([m @ lam for m, lam in zip(maps, lambdas, strict=True)])
+            inputs = self.formulation.solve(problem)  # (N, 6), moments about c-hat_k
+            contact_wrenches = inputs.copy()  # moments about the origin: n + c-hat_k x f
+            contact_wrenches[:, 3:] += cross(points, inputs[:, :3])
             predicted = self.model.predict_outputs(self.x, inputs)
             self._prediction = (
                 np.concatenate([[t], samples + self.dtau]),

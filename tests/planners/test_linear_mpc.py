@@ -7,7 +7,7 @@ import numpy as np
 import pytest
 
 from bench.scenarios import make_scenario
-from centroidal.mpc import MpcModel, MpcProblem, MpcWeights, condensed, split
+from centroidal.mpc import MpcModel, MpcProblem, MpcSolverError, MpcWeights, condensed, split
 from centroidal.mpc_formulations import FORMULATIONS, make_formulation
 from planners.linear_mpc import LinearMpcPlanner
 from robots.humanoid import humanoid
@@ -40,7 +40,8 @@ def _problem(model, scenario, t, horizon, x0, dtau=0.1, weights=None):
     points = np.tile(x0[:3], (horizon, 1))
     y_reference = np.zeros((horizon, 6))
     y_reference[:, :3] = x0[:3]
-    return mpc, MpcProblem(mpc.wrench_maps(generators, points), x0, y_reference)
+    maps = mpc.wrench_maps(generators, points)
+    return mpc, MpcProblem(maps, x0, y_reference, generators=generators, points=points)
 
 
 def _riccati_first_input(mpc: MpcModel, problem: MpcProblem) -> np.ndarray:
@@ -84,7 +85,7 @@ def test_unconstrained_first_input_equals_the_riccati_solution(model):
     x0_ref[:3] -= [0.005, -0.003, 0.0]
     mpc, problem = _problem(model, scenario, 0.0, 10, x0, weights=MpcWeights(ridge=1e-3))
     problem.y_reference[:, :3] = x0_ref[:3]
-    lambdas = split(make_formulation("dense:daqp", mpc, 32).solve(problem), problem.sizes)
+    lambdas = split(make_formulation("dense:daqp", mpc, 32).ridges(problem), problem.sizes)
     assert min(lam.min() for lam in lambdas) > 1e-3  # no bound active
     expected = _riccati_first_input(mpc, problem)
     np.testing.assert_allclose(lambdas[0], expected, rtol=1e-6, atol=1e-6)
@@ -109,15 +110,45 @@ def walking_problem(model):
 @pytest.mark.parametrize("name", FORMULATIONS)
 def test_formulations_agree(walking_problem, name):
     mpc, problem = walking_problem
+    assert len(set(problem.sizes)) == 2  # the horizon crosses a contact switch
     other = "dense:quadprog" if name != "dense:quadprog" else "sparse:clarabel"
-    reference = split(make_formulation(other, mpc, 32).solve(problem), problem.sizes)
-    lambdas = split(make_formulation(name, mpc, 32).solve(problem), problem.sizes)
-    assert len({len(x) for x in lambdas}) == 2  # the horizon crosses a contact switch
-    for k in range(mpc.horizon):
-        w_ref = problem.maps[k] @ reference[k]
-        w = problem.maps[k] @ lambdas[k]
-        np.testing.assert_allclose(w[:3], w_ref[:3], atol=0.05)  # N, of ~570 N
-        np.testing.assert_allclose(w[3:], w_ref[3:], atol=0.05)  # N m
+    reference = make_formulation(other, mpc, 32).solve(problem)
+    inputs = make_formulation(name, mpc, 32).solve(problem)
+    assert inputs.shape == (mpc.horizon, 6)
+    np.testing.assert_allclose(inputs[:, :3], reference[:, :3], atol=0.05)  # N, of ~570 N
+    np.testing.assert_allclose(inputs[:, 3:], reference[:, 3:], atol=0.05)  # N m
+
+
+@pytest.mark.parametrize("name", [f for f in FORMULATIONS if f.startswith("face:")])
+def test_face_form_equals_ridge_form_where_the_cone_binds(walking_problem, name):
+    """A reference 0.3 m to the side of the feet: the centre of pressure has to sit on the sole's
+    edge, so faces are active; the wrenches still equal the ridge form's (eps ||lambda||^2, which
+    the face form lacks, moves them by far less than the tolerance)."""
+    mpc, problem = walking_problem
+    problem = replace(problem, y_reference=problem.y_reference.copy())
+    problem.y_reference[:, 1] += 0.3
+    face = make_formulation(name, mpc, 32)
+    inputs = face.solve(problem)
+    reference = make_formulation("sparse:clarabel", mpc, 32).solve(problem)
+    np.testing.assert_allclose(inputs[:, :3], reference[:, :3], atol=0.05)  # N
+    np.testing.assert_allclose(inputs[:, 3:], reference[:, 3:], atol=0.05)  # N m
+    about_origin = inputs.copy()
+    about_origin[:, 3:] += np.cross(problem.points, inputs[:, :3])
+    slack = [face.faces_of(g) @ w for g, w in zip(problem.generators, about_origin, strict=True)]
+    assert max(s.max() for s in slack) < 1e-6  # feasible
+    active = sum(
+        int(np.sum(s > -1e-6 * np.abs(w).max())) for s, w in zip(slack, inputs, strict=True)
+    )
+    assert active >= 1  # and the cone binds
+
+
+def test_face_form_refuses_ridge_bounds(model, walking_problem):
+    mpc, problem = walking_problem
+    bounded = replace(problem, upper=[np.full(n, 100.0) for n in problem.sizes])
+    with pytest.raises(MpcSolverError, match="cannot bound ridge forces"):
+        make_formulation("face:quadprog", mpc, 32).solve(bounded)
+    with pytest.raises(ValueError, match="ridge_upper bounds ridge forces"):
+        LinearMpcPlanner(0.002, formulation="face:quadprog", ridge_upper=100.0)
 
 
 def test_no_support_is_a_recorded_failure_with_a_fallback(model):

@@ -1,0 +1,54 @@
+"""The face form (H-representation) of a contact wrench cone given by its ridges (eq. 8's
+G lambda, lambda >= 0): the rows F with F w <= 0 exactly for w in cone(G) (Minkowski-Weyl).
+
+Caron, Pham, Nakamura 2015 ("Leveraging cone double description for multi-contact stability
+of humanoids with applications to statics and dynamics") use this conversion to replace the
+ridge coefficients of a multi-contact QP by the resultant wrench, which has a fixed size (6)
+whatever the number of contacts. They compute it with the double-description method (cdd); here
+Qhull (`scipy.spatial.ConvexHull`) does it: near the origin, the polytope
+conv({0} u {g_i / ||g_i||}) coincides with the cone, so the hull's facets through the origin are
+the cone's facets. Qhull triangulates, so coplanar pieces of one facet come out as several
+equal rows; they are merged.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+from scipy.spatial import ConvexHull, QhullError
+
+_THROUGH_ORIGIN = 1e-9  # facet offset (for unit generators) below which it contains the origin
+_SAME_FACE = 1e-7  # unit normals closer than this are one facet
+
+
+def cone_faces(generators: np.ndarray) -> np.ndarray:
+    """F (m, d) with unit rows such that {w : F w <= 0} = {G lambda : lambda >= 0}, for the
+    generators G (d, n) of a full-dimensional cone other than the whole space (d = 6 for
+    contact wrenches: force [N] and moment [N m], so the rows mix units; only their signs
+    matter). ValueError if the cone is not full-dimensional or is the whole space."""
+    g = np.asarray(generators, dtype=float)
+    if g.ndim != 2 or g.shape[1] == 0:
+        raise ValueError(f"cone_faces needs a (d, n) generator matrix with n >= 1, got {g.shape}")
+    dimension = g.shape[0]
+    rank = np.linalg.matrix_rank(g)
+    if rank < dimension:
+        raise ValueError(
+            f"the cone spanned by these {g.shape[1]} generators has dimension {rank} < "
+            f"{dimension}: its face form needs a full-dimensional cone (use the ridge form)"
+        )
+    unit = g / np.linalg.norm(g, axis=0)
+    points = np.vstack([np.zeros(dimension), unit.T])
+    try:
+        hull = ConvexHull(points)
+    except QhullError as exc:  # pragma: no cover - rank was checked; Qhull's own degeneracies
+        raise ValueError(f"Qhull could not enumerate the cone's faces: {exc}") from exc
+    normals, offsets = hull.equations[:, :dimension], hull.equations[:, dimension]
+    through_origin = np.abs(offsets) < _THROUGH_ORIGIN
+    if not np.any(through_origin):
+        raise ValueError("the generators span the whole space: the cone has no faces")
+    faces = normals[through_origin]
+    faces = faces / np.linalg.norm(faces, axis=1, keepdims=True)
+    kept: list[np.ndarray] = []
+    for face in faces:  # merge Qhull's coplanar triangles (a few dozen rows)
+        if not any(np.max(np.abs(face - other)) < _SAME_FACE for other in kept):
+            kept.append(face)
+    return np.array(kept)
