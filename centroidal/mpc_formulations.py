@@ -365,6 +365,24 @@ class FaceForm:
         factor = scipy.linalg.cholesky(self.hessian)  # H = R^T R, R upper triangular
         self._inverse_factor = scipy.linalg.solve_triangular(factor, np.eye(len(factor)))
         self._faces: dict[int, tuple[np.ndarray, np.ndarray]] = {}
+        self._layout: tuple[list[int], np.ndarray, np.ndarray, np.ndarray] | None = None
+
+    def _negated_constraint(self, sizes: list[int], rows: np.ndarray) -> np.ndarray:
+        """The block-diagonal constraint matrix, negated, in a buffer kept while the samples'
+        face counts stay the same (a fresh 0.6 MB array every period costs more than the
+        solve: page faults)."""
+        if self._layout is None or self._layout[0] != sizes:
+            n = self.model.horizon
+            sample = np.repeat(np.arange(n), sizes)
+            self._layout = (
+                sizes,
+                np.arange(len(rows))[:, None],
+                6 * sample[:, None] + np.arange(6),
+                np.zeros((len(rows), 6 * n)),
+            )
+        _, row_index, column_index, buffer = self._layout
+        buffer[row_index, column_index] = -rows
+        return buffer
 
     def faces_of(self, generators: np.ndarray) -> np.ndarray:
         """F of cone(G) (moments about the origin), kept per generator array: the planner
@@ -396,21 +414,19 @@ class FaceForm:
         about = np.repeat(np.asarray(problem.points, dtype=float), sizes, axis=0)
         rows = stacked.copy()
         rows[:, :3] += cross(stacked[:, 3:], about)  # F T^-1: a . (c x f) = f . (a x c)
-        sample = np.repeat(np.arange(n), sizes)
-        constraint = np.zeros((len(rows), 6 * n))
-        constraint[np.arange(len(rows))[:, None], 6 * sample[:, None] + np.arange(6)] = rows
+        negated = self._negated_constraint(sizes, rows)  # -(F T^-1), block-diagonal (m, 6N)
         gradient = input_gradient(self.model, problem)
-        if self.solver == "quadprog":
+        if self.solver == "quadprog":  # min 1/2 U'HU - a'U  s.t.  C'U >= 0, with C = -(F T^-1)'
             try:
                 solution = quadprog.solve_qp(
-                    self._inverse_factor, -gradient, -constraint.T, np.zeros(len(rows)), 0, True
+                    self._inverse_factor, -gradient, negated.T, np.zeros(len(rows)), 0, True
                 )[0]
             except ValueError as exc:  # "constraints are inconsistent, no solution"
                 raise MpcSolverError(f"{self.name}: {exc}") from exc
         else:
             with np.errstate(all="ignore"):
                 solution = qpsolvers.solve_qp(
-                    self.hessian, gradient, G=constraint, h=np.zeros(len(rows)), solver=self.solver
+                    self.hessian, gradient, G=-negated, h=np.zeros(len(rows)), solver=self.solver
                 )
         if solution is None or not np.all(np.isfinite(solution)):
             raise MpcSolverError(f"{self.name} found no solution")

@@ -103,22 +103,16 @@ def limb_wrenches(
     owner (body or link id) is the limb's, with points (n, 3) [m] and forces on the robot
     (n, 3) [N] in world; frames as origins (k, 3) [m] and rotations (k, 3, 3) in world."""
     n_limbs = len(limb_owner)
-    wrench = np.zeros((n_limbs, 6))
-    flags = np.zeros(n_limbs, dtype=bool)
     if len(contact_owner) == 0:
-        return wrench, flags
-    moments_origin = cross(points_world, forces_world)
-    for k, owner in enumerate(limb_owner):
-        on_limb = contact_owner == owner
-        if not on_limb.any():
-            continue
-        force = forces_world[on_limb].sum(axis=0)
-        moment = moments_origin[on_limb].sum(axis=0) - cross(frame_origin_world[k], force)
-        rotation = frame_rotation_world[k]
-        wrench[k, :3] = rotation.T @ force
-        wrench[k, 3:] = rotation.T @ moment
-        flags[k] = True
-    return wrench, flags
+        return np.zeros((n_limbs, 6)), np.zeros(n_limbs, dtype=bool)
+    on_limb = np.asarray(limb_owner)[:, None] == np.asarray(contact_owner)[None, :]  # (k, n)
+    selection = on_limb.astype(float)
+    force = selection @ forces_world  # (k, 3), world
+    moment = selection @ cross(points_world, forces_world) - cross(frame_origin_world, force)
+    wrench = np.empty((n_limbs, 6))  # into each limb frame's axes: R_k^T
+    wrench[:, :3] = np.einsum("kji,kj->ki", frame_rotation_world, force)
+    wrench[:, 3:] = np.einsum("kji,kj->ki", frame_rotation_world, moment)
+    return wrench, on_limb.any(axis=1)
 
 
 def tilt_angle(quaternion_wxyz: np.ndarray) -> float:

@@ -105,6 +105,7 @@ class _ContactConfiguration:
 
     contacts: ContactSet  # G of eq. 13
     index: np.ndarray  # limb indices in contact
+    in_contact: np.ndarray  # (limbs,) bool: the same as a mask
     to_limb_frames: np.ndarray  # (6 n_c, n): lambda -> each contact's w_i in its own frame
     height: float  # mean contact height [m], the plane of the desired ZMP
     kd: np.ndarray  # (limbs, 6) Table II parameters per limb for this configuration
@@ -168,7 +169,11 @@ class CentroidalFeedbackStabilizer:
         parameters = [_DAMPING[mode if k in index else "free"] for k in range(len(self.limb_names))]
         kd, ks, kf = (np.array([p[i] for p in parameters]) for i in range(3))
         height = float(positions[index, 2].mean()) if len(index) else 0.0
-        self._cache = _ContactConfiguration(contacts, index, to_limb_frames, height, kd, ks, kf)
+        in_contact = np.zeros(len(self.limb_names), dtype=bool)
+        in_contact[index] = True
+        self._cache = _ContactConfiguration(
+            contacts, index, in_contact, to_limb_frames, height, kd, ks, kf
+        )
         self._cache_key = key
         return self._cache
 
@@ -235,7 +240,7 @@ class CentroidalFeedbackStabilizer:
             base_orientation_world=orientation_d,
             limb_position_world=compliant_position,
             limb_orientation_world=compliant_orientation,
-            limb_in_contact=np.isin(np.arange(n_limbs), configuration.index),
+            limb_in_contact=configuration.in_contact.copy(),
             com_desired_world=com_d,
             zmp_desired_world=zmp_on_plane(distributed, configuration.height),
             contact_wrench_desired_limb=desired_limb,
