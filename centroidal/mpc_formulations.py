@@ -12,7 +12,7 @@ forces lambda (`ridges`). Problems are built once where the tool allows (cvxpy, 
 native:piqp: fixed structure, every sample padded to `max_ridges`; face:quadprog: the constant
 Hessian factorised once) and warm-started where it can (osqp through qpsolvers and cvxpy, from
 the previous solution; PIQP is an interior-point method and starts afresh; quadprog's dual
-active set starts from the unconstrained optimum, which is close: 0-3 faces are active).
+active set starts from the unconstrained optimum, which is close: 0-4 faces are active).
 """
 
 from __future__ import annotations
