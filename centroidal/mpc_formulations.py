@@ -362,8 +362,10 @@ class FaceForm:
     def __init__(self, model: MpcModel, solver: str, max_ridges: int) -> None:
         self.model, self.solver, self.name = model, solver, f"face:{solver}"
         self.hessian = 2.0 * model.middle
-        factor = scipy.linalg.cholesky(self.hessian)  # H = R^T R, R upper triangular
-        self._inverse_factor = scipy.linalg.solve_triangular(factor, np.eye(len(factor)))
+        self._inverse_factor: np.ndarray | None = None  # R^-1 with H = R^T R, for quadprog
+        if solver == "quadprog":
+            factor = scipy.linalg.cholesky(self.hessian)  # R, upper triangular
+            self._inverse_factor = scipy.linalg.solve_triangular(factor, np.eye(len(factor)))
         self._faces: dict[int, tuple[np.ndarray, np.ndarray]] = {}
         self._layout: tuple[list[int], np.ndarray, np.ndarray, np.ndarray] | None = None
 

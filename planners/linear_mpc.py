@@ -105,7 +105,7 @@ class LinearMpcPlanner:
                 contacts, _ = self._phase_contacts(phase)
                 faces_of(contacts.matrix)
         self._prediction: tuple[np.ndarray, np.ndarray] | None = None  # (times, CoM)
-        self._last_plan: tuple[float, np.ndarray] | None = None  # (start, G lambda per sample)
+        self._last_plan: tuple[float, np.ndarray] | None = None  # (start, contact wrenches)
         self.solver_failures = 0
         self.last_error: str | None = None
 

@@ -107,7 +107,7 @@ class PybulletSimulator(SimulatorBase):
         self._joint_idx = [index[n] for n in robot.joint_names]
         self._link_idx = {link.name: index["link:" + link.name] for link in robot.links}
         self._link_name = {v: k for k, v in self._link_idx.items()}
-        self._limb_link = [self._link_idx[limb.link] for limb in robot.limbs]
+        self._limb_link = np.array([self._link_idx[limb.link] for limb in robot.limbs])
         self._limb_frame = [index["link:" + limb.contact_frame] for limb in robot.limbs]
         self._imu = index["link:" + robot.imu_frame]
         for link in [-1, *range(pb.getNumJoints(body, physicsClientId=c))]:
@@ -275,7 +275,7 @@ class PybulletSimulator(SimulatorBase):
             np.array(links),
             points,
             forces,
-            np.array(self._limb_link),
+            self._limb_link,
             np.array([frame[4] for frame in frames]),
             np.array([quaternion_to_matrix(_wxyz(frame[5])) for frame in frames]),
         )
