@@ -14,7 +14,6 @@ sensors of the limbs in contact.
 
 from __future__ import annotations
 
-from dataclasses import replace
 from typing import Protocol
 
 import numpy as np
@@ -49,19 +48,25 @@ class _EstimatorBase:
     def _complete(self, state: RobotState, sensors: Sensors) -> RobotState:
         """Add CoM, CoM velocity, measured wrenches, contact flags and ZMP to `state`."""
         q = self.robot_model.configuration(state)
-        v = self.robot_model.velocity(state)
+        v = self.robot_model.velocity(state, q)
         com = pin.centerOfMass(self.model, self.data, q, v).copy()
         com_velocity = self.data.vcom[0].copy()
         pin.updateFramePlacements(self.model, self.data)
-        placements = [self.data.oMf[f] for f in self.limb_frames]
-        positions = np.array([p.translation for p in placements])
-        rotations = np.array([p.rotation for p in placements])
         flags = sensors.contact_flag_limb
+        touching = [k for k, flag in enumerate(flags.tolist()) if flag]
+        placements = [self.data.oMf[self.limb_frames[k]] for k in touching]
         resultant = resultant_about_origin(
-            positions[flags], rotations[flags], sensors.contact_wrench_limb[flags]
+            np.array([p.translation for p in placements]).reshape(-1, 3),
+            np.array([p.rotation for p in placements]).reshape(-1, 3, 3),
+            sensors.contact_wrench_limb[touching],
         )
-        return replace(
-            state,
+        return RobotState(
+            state.base_position_world,
+            state.base_orientation_world,
+            state.base_linear_velocity_world,
+            state.base_angular_velocity_world,
+            state.joint_position,
+            state.joint_velocity,
             time=sensors.time,
             com_position_world=com,
             com_velocity_world=com_velocity,
@@ -114,7 +119,7 @@ class ProprioceptiveEstimator(_EstimatorBase):
             sensors.joint_velocity,
         )
         q = self.robot_model.configuration(relative)
-        v = self.robot_model.velocity(relative)
+        v = self.robot_model.velocity(relative, q)
         pin.computeJointJacobians(self.model, self.data, q)
         pin.updateFramePlacements(self.model, self.data)
         vertical = sensors.contact_wrench_limb[:, 2]

@@ -11,8 +11,10 @@ limbs with a target tracked with `limb` weight, limbs without one left to the po
 the CoM position, the base orientation, a low-weight posture task toward the nominal joint
 angles (Murooka V-A1) and an optional centroidal angular momentum task I_all dv = 0 (Murooka
 V-F), subject to the joint position limits and the joint velocity limits over one period. The
-QP is solved through qpsolvers (default daqp: the fastest on this dense 26-variable problem,
-see `make benchmark`).
+QP is solved by DAQP (the default: the fastest on this dense 26-variable problem, see
+`make benchmark`), called directly with the bounds as DAQP's simple bounds (what qpsolvers
+passes it, without qpsolvers' per-call problem checks: 33 against 71 us measured), or by any
+other solver through qpsolvers. The task rows are written into buffers kept between calls.
 
 Orientation errors are log(R_target R^T) in world axes, matching the LOCAL_WORLD_ALIGNED
 Jacobians.
@@ -20,8 +22,11 @@ Jacobians.
 
 from __future__ import annotations
 
+import math
+from ctypes import c_int
 from dataclasses import dataclass
 
+import daqp
 import numpy as np
 import pinocchio as pin
 import qpsolvers
@@ -81,11 +86,23 @@ class WholeBodyIK:
         self.max_step = robot.array("velocity_limit") * dt
         self.nominal = np.array(robot.nominal_posture)
         self.q = pin.neutral(self.model)
-        self._posture_rows = np.zeros((self.n_joints, self.nv))  # the joints' own rows
+        # Task rows in kept buffers: at most 6 per limb, CoM 3, base orientation 3, posture
+        # n_joints, angular momentum 3. The posture rows (the joints' own) never change.
+        n_rows = 6 * len(self.limb_frames) + 3 + 3 + self.n_joints + 3
+        self._jacobian = np.zeros((n_rows, self.nv))
+        self._error = np.zeros(n_rows)
+        self._weight = np.zeros(n_rows)
+        self._weighted = np.zeros((n_rows, self.nv))
+        self._posture_rows = np.zeros((self.n_joints, self.nv))
         self._posture_rows[:, 6:] = np.eye(self.n_joints)
+        self._damping = self.weights.damping * np.eye(self.nv)
         # The base step is bounded too, by 1 m / 1 rad per call: never active in practice, and
         # interior-point solvers (clarabel) fail on huge placeholder bounds.
         self._base_step = 1.0
+        self._lower = np.full(self.nv, -self._base_step)
+        self._upper = np.full(self.nv, self._base_step)
+        self._no_rows = np.zeros((0, self.nv))  # DAQP: no general constraints,
+        self._sense = np.zeros(self.nv, dtype=c_int)  # every variable a simple bound
 
     def reset(self, state: RobotState) -> None:
         """Start from `state`'s configuration."""
@@ -104,14 +121,16 @@ class WholeBodyIK:
         com = pin.centerOfMass(model, data, q, False)
         jacobian_com = pin.jacobianCenterOfMass(model, data, False)
 
-        rows: list[np.ndarray] = []
-        errors: list[np.ndarray] = []
-        weights: list[np.ndarray] = []
+        jacobian_rows, error_rows, weight_rows = self._jacobian, self._error, self._weight
+        n = 0
 
         def add(jacobian: np.ndarray, error: np.ndarray, weight: float) -> None:
-            rows.append(jacobian)
-            errors.append(error)
-            weights.append(np.full(len(error), weight))
+            nonlocal n
+            m = len(error)
+            jacobian_rows[n : n + m] = jacobian
+            error_rows[n : n + m] = error
+            weight_rows[n : n + m] = weight
+            n += m
 
         tracked = targets.limb_tracked
         for k, frame in enumerate(self.limb_frames):
@@ -137,22 +156,31 @@ class WholeBodyIK:
             centroidal = pin.computeCentroidalMap(model, data, q)
             add(centroidal[3:], np.zeros(3), w.angular_momentum)
 
-        jacobian = np.vstack(rows)
-        error = np.concatenate(errors) * w.gain
-        weight = np.concatenate(weights)
-        weighted = jacobian * weight[:, None]
-        hessian = jacobian.T @ weighted + w.damping * np.eye(self.nv)
+        jacobian = jacobian_rows[:n]
+        error = error_rows[:n] * w.gain
+        weighted = np.multiply(jacobian, weight_rows[:n, None], out=self._weighted[:n])
+        hessian = jacobian.T @ weighted + self._damping
         gradient = -weighted.T @ error
 
-        lower = np.full(self.nv, -self._base_step)
-        upper = np.full(self.nv, self._base_step)
+        lower, upper = self._lower, self._upper
         joints = q[7:]
         lower[6:] = np.minimum(np.maximum(self.lower - joints, -self.max_step), 0.0)
         upper[6:] = np.maximum(np.minimum(self.upper - joints, self.max_step), 0.0)
-        step = qpsolvers.solve_qp(hessian, gradient, lb=lower, ub=upper, solver=self.solver)
-        if step is None or not np.all(np.isfinite(step)):
+        step = self._solve_qp(hessian, gradient, lower, upper)
+        if step is None or not math.isfinite(step.sum()):
             raise RuntimeError(f"IK QP ({self.solver}) found no solution")
         self.q = pin.integrate(model, q, step)
         # Keep the joints inside their limits exactly (the solver's tolerance may leave 1e-9).
         self.q[7:] = np.clip(self.q[7:], self.lower, self.upper)
         return self.q[7:].copy(), step[6:] / self.dt
+
+    def _solve_qp(
+        self, hessian: np.ndarray, gradient: np.ndarray, lower: np.ndarray, upper: np.ndarray
+    ) -> np.ndarray | None:
+        """argmin 1/2 x^T H x + g^T x subject to lower <= x <= upper, or None."""
+        if self.solver == "daqp":
+            step, _, exitflag, _ = daqp.solve(
+                hessian, gradient, self._no_rows, upper, lower, self._sense
+            )
+            return step if exitflag > 0 else None
+        return qpsolvers.solve_qp(hessian, gradient, lb=lower, ub=upper, solver=self.solver)

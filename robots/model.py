@@ -8,6 +8,8 @@ Conventions at this boundary: pinocchio's configuration stores the base quaterni
 
 from __future__ import annotations
 
+import math
+
 import numpy as np
 import pinocchio as pin
 
@@ -36,17 +38,19 @@ class RobotModel:
     def configuration(self, state: RobotState) -> np.ndarray:
         """pinocchio q: base position, base quaternion (x, y, z, w), joint positions."""
         quaternion = np.asarray(state.base_orientation_world, dtype=float)
-        w, x, y, z = quaternion / np.linalg.norm(quaternion)
-        return np.concatenate([state.base_position_world, [x, y, z, w], state.joint_position])
+        w, x, y, z = (quaternion / math.sqrt(quaternion @ quaternion)).tolist()
+        return np.concatenate([state.base_position_world, (x, y, z, w), state.joint_position])
 
-    def velocity(self, state: RobotState) -> np.ndarray:
-        """pinocchio v: base linear and angular velocity in the base frame, joint velocities."""
-        q = self.configuration(state)
-        rotation = pin.Quaternion(q[6], q[3], q[4], q[5]).toRotationMatrix()
+    def velocity(self, state: RobotState, q: np.ndarray | None = None) -> np.ndarray:
+        """pinocchio v: base linear and angular velocity in the base frame, joint velocities;
+        `q` is `configuration(state)` when the caller has it already."""
+        if q is None:
+            q = self.configuration(state)
+        rotation_t = pin.Quaternion(q[6], q[3], q[4], q[5]).toRotationMatrix().T
         return np.concatenate(
             [
-                rotation.T @ state.base_linear_velocity_world,
-                rotation.T @ state.base_angular_velocity_world,
+                rotation_t @ state.base_linear_velocity_world,
+                rotation_t @ state.base_angular_velocity_world,
                 state.joint_velocity,
             ]
         )

@@ -107,6 +107,7 @@ class MujocoSimulator(SimulatorBase):
             sensor("imu_accel"),
         )
         self._contact_cache: tuple[np.ndarray, np.ndarray, np.ndarray] | None = None
+        self._forwarded = False  # mj_forward has run on the current state
 
     def set_state(self, state: RobotState) -> None:
         d, r, v = self.data, self._root_qpos, self._root_dof
@@ -122,6 +123,7 @@ class MujocoSimulator(SimulatorBase):
         d.qvel[self._dof_idx] = state.joint_velocity
         d.qacc_warmstart[:] = 0.0
         mujoco.mj_forward(self.model, d)
+        self._forwarded = True
         self._contact_cache = None
 
     def ground_truth(self) -> RobotState:
@@ -146,7 +148,14 @@ class MujocoSimulator(SimulatorBase):
         d.xfrc_applied[:] = 0.0
         for link, force in forces:  # xfrc_applied acts at the body's centre of mass
             d.xfrc_applied[self._body_id[link], :3] += force
-        mujoco.mj_step(self.model, d)
+        if self._forwarded:
+            # mj_step = mj_step1 (positions, velocities: independent of ctrl and xfrc_applied)
+            # + mj_step2 (actuation, acceleration, constraints, integration); the state's
+            # mj_forward (after the last period, or set_state) already did mj_step1's part.
+            mujoco.mj_step2(self.model, d)
+            self._forwarded = False
+        else:
+            mujoco.mj_step(self.model, d)
 
     def _contacts(self) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         """Active contacts between a robot geom and a scene geom, as arrays over the contacts:
@@ -176,6 +185,7 @@ class MujocoSimulator(SimulatorBase):
     def _read_sensors(self) -> Sensors:
         m, d = self.model, self.data
         mujoco.mj_forward(m, d)  # sensors, contacts and poses of the state after the step
+        self._forwarded = True
         self._contact_cache = None
         assert self.robot is not None
         bodies, points, forces = self._contacts()
