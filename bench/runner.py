@@ -112,6 +112,18 @@ class _Trace:
         self.capacity = n_periods
         self.blocks: dict[str, tuple[np.ndarray, tuple[str, ...] | None]] = {}
         self.limbs = limbs
+        # column names built once, not every period
+        self.limb_columns = [
+            (f"contact_{limb}", f"wrench_measured_{limb}", f"wrench_desired_{limb}")
+            for limb in limbs
+        ]
+        self.timing_columns: dict[str, str] = {}
+
+    def timing_column(self, stage: str) -> str:
+        name = self.timing_columns.get(stage)
+        if name is None:
+            name = self.timing_columns[stage] = f"t_{stage}_us"
+        return name
 
     def put(self, name: str, value: float, dtype=np.float64) -> None:
         block = self.blocks.get(name)
@@ -362,26 +374,29 @@ def _record(
     vector("zmp_planned", plan.zmp_planned_world[:2], ("x", "y"))
     vector("zmp_desired", targets.zmp_desired_world[:2], ("x", "y"))
     vector("zmp_actual", state.zmp_world[:2], ("x", "y"))
-    for k, limb in enumerate(trace.limbs):
-        put(f"contact_{limb}", bool(state.contact_flag_limb[k]), np.bool_)
-        vector(f"wrench_measured_{limb}", state.contact_wrench_limb[k], AXES)
-        if targets.contact_wrench_desired_limb is not None:
-            vector(f"wrench_desired_{limb}", targets.contact_wrench_desired_limb[k], AXES)
+    flags = state.contact_flag_limb.tolist()
+    desired = targets.contact_wrench_desired_limb
+    for k, (contact, measured, desired_name) in enumerate(trace.limb_columns):
+        put(contact, flags[k], np.bool_)
+        vector(measured, state.contact_wrench_limb[k], AXES)
+        if desired is not None:
+            vector(desired_name, desired[k], AXES)
     vector("wrench_planned", plan.wrench_planned_world, AXES)
     vector("wrench_projected", plan.wrench_projected_world, AXES)
     if targets.wrench_desired_world is not None:
         vector("wrench_desired", targets.wrench_desired_world, AXES)
         vector("wrench_distributed", targets.wrench_distributed_world, AXES)
+    column = trace.timing_column
     control = 0
     for name, ns in timings.items():
-        put(f"t_{name}_us", ns / 1e3)
+        put(column(name), ns / 1e3)
         if name in CONTROL_STAGES:
             control += ns
     put("t_control_total_us", control / 1e3)
     centroidal = 0
     for source in (plan.timings_ns, targets.timings_ns or {}):
         for name, ns in source.items():
-            put(f"t_{name}_us", ns / 1e3)
+            put(column(name), ns / 1e3)
             if name in CENTROIDAL_STAGES:
                 centroidal += ns
     put("t_centroidal_total_us", centroidal / 1e3)

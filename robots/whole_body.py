@@ -41,7 +41,7 @@ class WholeBodyLayer:
     def _feedforward(self, targets: WholeBodyTargets) -> np.ndarray:
         model, data, q = self.model, self.data, self.ik.q
         gravity = pin.computeGeneralizedGravity(model, data, q)
-        contacts = np.flatnonzero(targets.limb_in_contact)
+        contacts = [k for k, flag in enumerate(targets.limb_in_contact.tolist()) if flag]
         torque = gravity[6:].copy()
         if len(contacts):
             pin.computeJointJacobians(model, data, q)

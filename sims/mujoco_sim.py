@@ -141,7 +141,9 @@ class MujocoSimulator(SimulatorBase):
     def _joint_state(self) -> tuple[np.ndarray, np.ndarray]:
         return self.data.qpos[self._qpos_idx], self.data.qvel[self._dof_idx]
 
-    def _physics_step(self, torque: np.ndarray, forces: list[tuple[str, np.ndarray]]) -> None:
+    def _physics_step(
+        self, torque: np.ndarray, forces: list[tuple[str, np.ndarray]], last: bool
+    ) -> None:
         d = self.data
         self._contact_cache = None
         d.ctrl[self._actuator_idx] = torque

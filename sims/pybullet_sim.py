@@ -18,6 +18,7 @@ Physics settings (same intent as `sims.mujoco_sim`; see README "Simulator differ
 
 from __future__ import annotations
 
+import math
 import os
 import sys
 
@@ -65,6 +66,10 @@ averaged 1.07 m g at rest), so scenarios must not start with bodies interpenetra
 
 def _wxyz(q_xyzw) -> np.ndarray:
     return np.array([q_xyzw[3], q_xyzw[0], q_xyzw[1], q_xyzw[2]])
+
+
+def _wxyz_tuple(q_xyzw) -> tuple[float, float, float, float]:
+    return q_xyzw[3], q_xyzw[0], q_xyzw[1], q_xyzw[2]
 
 
 def _xyzw(q_wxyz) -> list[float]:
@@ -164,12 +169,13 @@ class PybulletSimulator(SimulatorBase):
         self._base_inertial_conjugate = np.array([w, -x, -y, -z])
         self._imu_velocity_before = np.zeros(3)
         self._contact_cache: tuple[list[int], np.ndarray, np.ndarray] | None = None
+        self._joint_cache: tuple[np.ndarray, np.ndarray] | None = None
 
     # PyBullet's base pose is its inertial frame; ours is the link frame.
     def _base_link_pose(self) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
         """(link origin [m], link rotation, CoM [m], link quaternion (w, x, y, z), w >= 0)."""
         com, orn = pb.getBasePositionAndOrientation(self.body, physicsClientId=self.client)
-        inertial = _wxyz(orn)
+        inertial = _wxyz_tuple(orn)
         rotation = quaternion_to_matrix(inertial) @ self._base_inertial_rotation.T
         position = np.array(com) - rotation @ self._base_com_in_link
         # the link's orientation: the inertial frame's times its offset's inverse
@@ -194,6 +200,7 @@ class PybulletSimulator(SimulatorBase):
             self._joint_idx, state.joint_position, state.joint_velocity, strict=True
         ):
             pb.resetJointState(body, j, float(q), float(dq), physicsClientId=c)
+        self._joint_cache = None
         self._imu_velocity_before = self._imu_state()[2]
         self._contact_cache = None
 
@@ -206,8 +213,13 @@ class PybulletSimulator(SimulatorBase):
         return RobotState(position, quaternion, v_origin, omega, q, dq)
 
     def _joint_state(self) -> tuple[np.ndarray, np.ndarray]:
-        states = pb.getJointStates(self.body, self._joint_idx, physicsClientId=self.client)
-        return np.array([s[0] for s in states]), np.array([s[1] for s in states])
+        """Read once per state: cached until the next physics step or `set_state`."""
+        if self._joint_cache is None:
+            states = pb.getJointStates(self.body, self._joint_idx, physicsClientId=self.client)
+            both = np.array([s[:2] for s in states])
+            self._joint_cache = (both[:, 0].copy(), both[:, 1].copy())
+        q, dq = self._joint_cache
+        return q.copy(), dq.copy()
 
     def _imu_state(self):
         s = pb.getLinkState(
@@ -219,9 +231,12 @@ class PybulletSimulator(SimulatorBase):
         )
         return np.array(s[4]), _wxyz(s[5]), np.array(s[6]), np.array(s[7])
 
-    def _physics_step(self, torque: np.ndarray, forces: list[tuple[str, np.ndarray]]) -> None:
+    def _physics_step(
+        self, torque: np.ndarray, forces: list[tuple[str, np.ndarray]], last: bool
+    ) -> None:
         c, body = self.client, self.body
         self._contact_cache = None
+        self._joint_cache = None
         pb.setJointMotorControlArray(
             body, self._joint_idx, pb.TORQUE_CONTROL, forces=torque.tolist(), physicsClientId=c
         )
@@ -234,7 +249,8 @@ class PybulletSimulator(SimulatorBase):
             pb.applyExternalForce(
                 body, index, force.tolist(), list(com), pb.WORLD_FRAME, physicsClientId=c
             )
-        self._imu_velocity_before = self._imu_state()[2]
+        if last:  # the accelerometer differences the IMU velocity over the last step
+            self._imu_velocity_before = self._imu_state()[2]
         pb.stepSimulation(physicsClientId=c)
 
     def _contacts(self) -> tuple[list[int], np.ndarray, np.ndarray]:
@@ -277,14 +293,14 @@ class PybulletSimulator(SimulatorBase):
             forces,
             self._limb_link,
             np.array([frame[4] for frame in frames]),
-            np.array([quaternion_to_matrix(_wxyz(frame[5])) for frame in frames]),
+            np.array([quaternion_to_matrix(_wxyz_tuple(frame[5])) for frame in frames]),
         )
         state = self.ground_truth()
         _, imu_quat, imu_velocity, imu_omega = self._imu_state()
         imu_rotation = quaternion_to_matrix(imu_quat)
         acceleration = (imu_velocity - self._imu_velocity_before) / self.scene.physics_dt
         specific_force = acceleration + np.array([0.0, 0.0, self.scene.gravity])
-        if not np.all(np.isfinite(state.base_position_world)):
+        if not math.isfinite(float(state.base_position_world.sum())):
             raise SimulatorError(f"pybullet: non-finite base position at t = {self.time:.3f} s")
         return Sensors(
             time=self.time,

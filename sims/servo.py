@@ -21,4 +21,4 @@ def servo_torque(
         + command.kd * (command.velocity - dq)
         + command.torque_feedforward
     )
-    return np.clip(tau, -torque_limit, torque_limit)
+    return np.minimum(np.maximum(tau, -torque_limit), torque_limit)  # np.clip, 3x cheaper
