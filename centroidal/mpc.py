@@ -121,6 +121,7 @@ class MpcModel:
         q = np.tile(self.q_output, n)
         self.middle = self.phi.T @ (q[:, None] * self.phi) + np.diag(np.tile(self.r_input, n))
         self.q_stacked = q
+        self.input_reference = np.tile(self.r_input * self.u_reference, n)  # R U_ref (6N)
         self._sparse_constants = None
 
     def sparse_constants(self):
@@ -180,9 +181,10 @@ class MpcProblem:
     """One period's data: W_k per sample, the initial state, the output references (N, 6),
     optional ridge-force upper bounds per sample and, for the face form, each sample's G_k
     (moments about the origin; the same array object for the samples of one contact phase) and
-    c-hat_k (N, 3) [m] from which W_k was made."""
+    c-hat_k (N, 3) [m] from which W_k was made. `maps` is None for a formulation that does not
+    use them (`needs_maps` False: the face form), which saves making them every period."""
 
-    maps: list[np.ndarray]
+    maps: list[np.ndarray] | None
     x0: np.ndarray
     y_reference: np.ndarray
     upper: list[np.ndarray] | None = None
@@ -191,7 +193,8 @@ class MpcProblem:
 
     @property
     def sizes(self) -> list[int]:
-        return [m.shape[1] for m in self.maps]
+        matrices = self.maps if self.maps is not None else self.generators
+        return [m.shape[1] for m in matrices]
 
 
 class MpcSolverError(RuntimeError):
@@ -221,10 +224,7 @@ def input_gradient(model: MpcModel, problem: MpcProblem) -> np.ndarray:
     U^T M U + l^T U + const with the constant M = Phi^T Q Phi + R (`model.middle`):
     l = 2 (Phi^T Q (Psi x0 + Y_g - Y_ref) - R U_ref)."""
     free = model.psi @ problem.x0 + model.y_gravity - problem.y_reference.ravel()
-    return 2.0 * (
-        model.phi.T @ (model.q_stacked * free)
-        - np.tile(model.r_input * model.u_reference, model.horizon)
-    )
+    return 2.0 * (model.phi.T @ (model.q_stacked * free) - model.input_reference)
 
 
 def sparse_form(model: MpcModel, problem: MpcProblem, pad_to: int | None = None):

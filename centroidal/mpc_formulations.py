@@ -359,6 +359,8 @@ class FaceForm:
     goes through qpsolvers and factorises every period.
     """
 
+    needs_maps = False  # the faces replace the ridges' W_k
+
     def __init__(self, model: MpcModel, solver: str, max_ridges: int) -> None:
         self.model, self.solver, self.name = model, solver, f"face:{solver}"
         self.hessian = 2.0 * model.middle
@@ -367,23 +369,22 @@ class FaceForm:
             factor = scipy.linalg.cholesky(self.hessian)  # R, upper triangular
             self._inverse_factor = scipy.linalg.solve_triangular(factor, np.eye(len(factor)))
         self._faces: dict[int, tuple[np.ndarray, np.ndarray]] = {}
-        self._layout: tuple[list[int], np.ndarray, np.ndarray, np.ndarray] | None = None
+        self._layout: tuple[list[int], np.ndarray, np.ndarray] | None = None
 
     def _negated_constraint(self, sizes: list[int], rows: np.ndarray) -> np.ndarray:
         """The block-diagonal constraint matrix, negated, in a buffer kept while the samples'
         face counts stay the same (a fresh 0.6 MB array every period costs more than the
-        solve: page faults)."""
+        solve: page faults); `rows` (m, 6) is negated in place and written at flat positions
+        kept with the buffer."""
         if self._layout is None or self._layout[0] != sizes:
             n = self.model.horizon
             sample = np.repeat(np.arange(n), sizes)
-            self._layout = (
-                sizes,
-                np.arange(len(rows))[:, None],
-                6 * sample[:, None] + np.arange(6),
-                np.zeros((len(rows), 6 * n)),
-            )
-        _, row_index, column_index, buffer = self._layout
-        buffer[row_index, column_index] = -rows
+            columns = 6 * sample[:, None] + np.arange(6)
+            flat = np.arange(len(rows))[:, None] * (6 * n) + columns  # row-major positions
+            self._layout = (sizes, flat.ravel(), np.zeros((len(rows), 6 * n)))
+        _, flat, buffer = self._layout
+        np.negative(rows, out=rows)
+        buffer.put(flat, rows)
         return buffer
 
     def faces_of(self, generators: np.ndarray) -> np.ndarray:

@@ -144,11 +144,15 @@ class LinearMpcPlanner:
 
         generators = [c.matrix for c, _ in per_sample]
         points = self._linearisation_points(samples)
-        maps = self.model.wrench_maps(generators, points)
+        maps = (
+            self.model.wrench_maps(generators, points)
+            if getattr(self.formulation, "needs_maps", True)
+            else None
+        )
         upper = (
             None
             if self.ridge_upper is None
-            else [np.full(m.shape[1], self.ridge_upper) for m in maps]
+            else [np.full(g.shape[1], self.ridge_upper) for g in generators]
         )
         problem = MpcProblem(maps, self.x.copy(), y_reference, upper, generators, points)
         try:

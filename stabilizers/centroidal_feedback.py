@@ -214,7 +214,7 @@ class CentroidalFeedbackStabilizer:
 
         # eqs. 15-16: damping control of every limb end at once (world-axes errors).
         targets = plan.limb_target_orientation_world
-        targets = targets / np.linalg.norm(targets, axis=1, keepdims=True)
+        targets = targets / np.sqrt((targets * targets).sum(axis=1, keepdims=True))  # unit
         difference = (state.contact_wrench_limb - desired_limb).reshape(n_limbs, 2, 3)
         error = np.einsum("kij,kaj->kai", to_matrices(targets), difference).reshape(n_limbs, 6)
         c = configuration
