@@ -157,7 +157,8 @@ def _latency(trace: pd.DataFrame) -> dict[str, dict[str, float]]:
     result = {}
     for column in trace.columns:
         if column.startswith("t_") and column.endswith("_us"):
-            values = trace[column].dropna().to_numpy()
+            values = trace[column].to_numpy()
+            values = values[~np.isnan(values)]
             if len(values):
                 result[column[2:-3]] = {
                     "median": float(np.median(values)),
@@ -312,10 +313,15 @@ class _SupportPolygon:
         self.limbs = robot.limbs
         self.key = None
         self.halfplanes = None
+        self._index_of: dict[tuple[str, ...], list[int]] = {}
 
     def margin(self, plan: CentroidalPlan) -> float:
         names = plan.contact_limbs
-        index = [k for k, limb in enumerate(self.limbs) if limb.name in names]
+        index = self._index_of.get(names)
+        if index is None:
+            index = self._index_of[names] = [
+                k for k, limb in enumerate(self.limbs) if limb.name in names
+            ]
         key = (names, plan.limb_target_position_world[index].round(6).tobytes())
         if key != self.key:
             points = [
@@ -328,7 +334,7 @@ class _SupportPolygon:
             ]
             self.halfplanes = support_halfplanes(np.vstack(points)[:, :2]) if points else None
             self.key = key
-        if self.halfplanes is None or not np.all(np.isfinite(plan.zmp_planned_world)):
+        if self.halfplanes is None or not math.isfinite(float(plan.zmp_planned_world.sum())):
             return float("nan")
         return margin_inside(self.halfplanes, plan.zmp_planned_world[:2])
 
@@ -342,7 +348,9 @@ def _projection_error(frame: pd.DataFrame) -> dict[str, float | None]:
         columns_b = [f"{b}_{x}" for x in axes]
         if not set(columns_a + columns_b) <= set(frame.columns):
             return None
-        difference = frame[columns_a].to_numpy() - frame[columns_b].to_numpy()
+        difference = np.column_stack([frame[a].to_numpy() for a in columns_a]) - np.column_stack(
+            [frame[b].to_numpy() for b in columns_b]
+        )
         return float(np.nanmean(np.linalg.norm(difference, axis=1)))
 
     force, moment = AXES[:3], AXES[3:]

@@ -9,6 +9,7 @@ status "error" and the message.
 
 from __future__ import annotations
 
+import math
 import random
 import sys
 import time
@@ -61,6 +62,9 @@ def run_sweep(
     finished = store.finished_ids() if resume else set()
     todo = [e for e in episodes if e.episode_id not in finished]
     random.Random(0).shuffle(todo)  # costs mixed over the run, so that the ETA holds
+    # ... except that the longest episodes go first (a stable sort keeps the shuffle among
+    # equals): a long walk started last would leave the other workers idle at the end.
+    todo.sort(key=_longest_first)
     runner = make_executor(executor, workers=workers, address=address)
     bar = _progress(len(episodes), len(episodes) - len(todo), progress)
     falls = errors = 0
@@ -81,6 +85,13 @@ def run_sweep(
         if bar is not None:
             bar.close()
     return read_episodes(out)
+
+
+def _longest_first(episode: Episode) -> float:
+    """Sort key: minus the simulated time [s]; a scenario's own length (duration None, the
+    walks) counts as the longest."""
+    duration = episode.run.duration
+    return -math.inf if duration is None else -duration
 
 
 def _progress(total: int, done: int, enabled: bool):

@@ -13,6 +13,8 @@ equal rows; they are merged.
 
 from __future__ import annotations
 
+import functools
+
 import numpy as np
 from scipy.spatial import ConvexHull, QhullError
 
@@ -28,6 +30,14 @@ def cone_faces(generators: np.ndarray) -> np.ndarray:
     g = np.asarray(generators, dtype=float)
     if g.ndim != 2 or g.shape[1] == 0:
         raise ValueError(f"cone_faces needs a (d, n) generator matrix with n >= 1, got {g.shape}")
+    return _faces_of_exact(g.shape, g.tobytes()).copy()
+
+
+@functools.lru_cache(maxsize=256)
+def _faces_of_exact(shape: tuple[int, int], data: bytes) -> np.ndarray:
+    """The faces of the generators with exactly these bytes (kept: every episode of a sweep
+    worker that stands on the same feet has the same G, and Qhull plus the merge cost ~60 ms)."""
+    g = np.frombuffer(data, dtype=float).reshape(shape)
     dimension = g.shape[0]
     rank = np.linalg.matrix_rank(g)
     if rank < dimension:
@@ -47,8 +57,11 @@ def cone_faces(generators: np.ndarray) -> np.ndarray:
         raise ValueError("the generators span the whole space: the cone has no faces")
     faces = normals[through_origin]
     faces = faces / np.linalg.norm(faces, axis=1, keepdims=True)
-    kept: list[np.ndarray] = []
-    for face in faces:  # merge Qhull's coplanar triangles (a few dozen rows)
-        if not any(np.max(np.abs(face - other)) < _SAME_FACE for other in kept):
-            kept.append(face)
-    return np.array(kept)
+    # merge Qhull's coplanar triangles: a face is kept unless one kept before it is within
+    # _SAME_FACE in every component
+    distance = np.abs(faces[:, None, :] - faces[None, :, :]).max(axis=2)
+    kept: list[int] = []
+    for i in range(len(faces)):
+        if not kept or distance[i, kept].min() >= _SAME_FACE:
+            kept.append(i)
+    return faces[kept]

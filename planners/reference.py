@@ -38,8 +38,12 @@ def com_reference(
     """CoM reference (n_samples, 3) [m] at times 0, dtau, 2 dtau, ... (the last phase holds
     beyond the scenario's end)."""
     reference = np.empty((n_samples, 3))
+    by_phase: dict[int, tuple[np.ndarray, float]] = {}  # support_centre depends on the phase only
     for i in range(n_samples):
-        centre, height = support_centre(scenario, i * dtau)
+        phase = scenario.phase_at(i * dtau)
+        if id(phase) not in by_phase:
+            by_phase[id(phase)] = support_centre(scenario, i * dtau)
+        centre, height = by_phase[id(phase)]
         reference[i, :2] = centre
         reference[i, 2] = height + height_offset
     return reference

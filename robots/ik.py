@@ -51,7 +51,7 @@ class IKWeights:
 
 
 def _quaternion_matrix(quaternion_wxyz: np.ndarray) -> np.ndarray:
-    w, x, y, z = quaternion_wxyz
+    w, x, y, z = np.asarray(quaternion_wxyz).tolist()  # Python floats: faster to convert
     return pin.Quaternion(w, x, y, z).normalized().toRotationMatrix()
 
 

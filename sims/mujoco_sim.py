@@ -171,8 +171,8 @@ class MujocoSimulator(SimulatorBase):
         scene1, scene2 = self._scene_geom[geom1], self._scene_geom[geom2]
         keep = np.flatnonzero(scene1 != scene2)
         forces = np.empty((len(keep), 6))
-        for j, i in enumerate(keep):
-            mujoco.mj_contactForce(m, d, int(i), forces[j])
+        for j, i in enumerate(keep.tolist()):
+            mujoco.mj_contactForce(m, d, i, forces[j])
         frames = contact.frame[keep].reshape(-1, 3, 3)  # rows: normal (geom1 -> geom2), tangents
         force_on_geom2 = np.einsum("kji,kj->ki", frames, forces[:, :3])
         robot_is_2 = scene1[keep]
