@@ -167,3 +167,35 @@ def test_existing_results_need_resume_or_overwrite(tmp_path: Path):
     ]
     assert main(flags) == 2  # results exist: refuse to mix
     assert main([*flags, "--resume"]) == 2  # another spec: refuse to resume
+
+
+_ORDER_ENV = "CENTROBENCH_TEST_ORDER"
+
+
+def recording_work(episode):
+    """Records which episode starts (scenario and simulated time) and runs nothing."""
+    from bench.sweep import _failure_row
+
+    with open(os.environ[_ORDER_ENV], "a") as log:
+        log.write(f"{episode.run.scenario} {episode.run.duration}\n")
+    return _failure_row(episode, RuntimeError("not run: order test")), None
+
+
+def test_longest_episodes_start_first(tmp_path: Path, monkeypatch):
+    """A plain scenario at its own length (duration None: the walks of the main job) starts
+    before the 3.3 s push episodes, so that no long episode is left for the end."""
+    log = tmp_path / "order.txt"
+    monkeypatch.setenv(_ORDER_ENV, str(log))
+    spec = spec_from_mapping(
+        {
+            "controllers": ["hold+posture"],
+            "sims": ["mujoco"],
+            "scenarios": ["stand"],
+            "push": {"dv": [0.3, 0.4], "count": 3},
+        }
+    )
+    run_sweep(spec, tmp_path / "out", workers=1, progress=False, work=recording_work)
+    started = log.read_text().splitlines()
+    assert len(started) == 7  # 1 stand + 2 levels x 3 pushes
+    assert started[0] == "stand None"
+    assert all(line == "stand_push 3.3" for line in started[1:])

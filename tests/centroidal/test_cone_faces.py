@@ -80,3 +80,14 @@ def test_a_point_contact_has_no_face_form():
     point = ContactSurface(np.zeros((1, 2)), MU)
     with pytest.raises(ValueError, match="dimension 3 < 6"):
         cone_faces(generator_matrix(point, np.zeros(3), np.eye(3)))
+
+
+def test_kept_faces_are_the_callers_own_copy():
+    """Faces are kept per exact generator matrix across calls; a caller changing its result
+    must not change what the next caller gets."""
+    g = generator_matrix(ContactSurface.rectangle(HALF_X, HALF_Y, MU), np.zeros(3), np.eye(3))
+    first = cone_faces(g)
+    expected = first.copy()
+    first[:] = 0.0
+    np.testing.assert_array_equal(cone_faces(g.copy()), expected)
+    assert not np.array_equal(expected, 0.0)
