@@ -208,3 +208,35 @@ def test_jacobians_used_by_the_ik_match_finite_differences(model):
 def test_unknown_solver_is_rejected(model):
     with pytest.raises(ValueError, match="available"):
         WholeBodyIK(model, DT, solver="no_such_solver")
+
+
+def test_direct_daqp_solves_the_same_qp_as_quadprog_through_qpsolvers(model):
+    """The default solver is DAQP called directly; quadprog through qpsolvers is an
+    independent solver of the same QP: the same steps, with joint limits and speed bounds
+    active (targets out of reach)."""
+    start = model.standing_state()
+    targets = _targets_of(model, start)
+    far = targets.limb_position_world.copy()
+    far[2] += [1.5, 1.0, 1.0]
+    targets = WholeBodyTargets(
+        targets.com_position_world + np.array([0.3, 0.2, -0.3]),
+        targets.base_orientation_world,
+        far,
+        targets.limb_orientation_world,
+        targets.limb_in_contact,
+        targets.com_desired_world,
+        targets.zmp_desired_world,
+    )
+    direct, reference = WholeBodyIK(model, DT), WholeBodyIK(model, DT, solver="quadprog")
+    direct.reset(start)
+    reference.reset(start)
+    speed_limit = model.robot.array("velocity_limit")
+    at_bound = 0
+    for _ in range(100):
+        joints, velocity = direct.solve(targets)
+        joints_ref, velocity_ref = reference.solve(targets)
+        np.testing.assert_allclose(velocity, velocity_ref, atol=1e-6)
+        np.testing.assert_allclose(joints, joints_ref, atol=1e-8)
+        at_bound += int(np.any(np.isclose(np.abs(velocity), speed_limit, rtol=1e-9)))
+        reference.q = direct.q.copy()  # the same linearisation point every call
+    assert at_bound > 0  # some speed bound was active
