@@ -64,12 +64,12 @@ PyBullet reports includes the recovery impulse, which does not change momentum (
 averaged 1.07 m g at rest), so scenarios must not start with bodies interpenetrating."""
 
 
-def _wxyz(q_xyzw) -> np.ndarray:
-    return np.array([q_xyzw[3], q_xyzw[0], q_xyzw[1], q_xyzw[2]])
-
-
 def _wxyz_tuple(q_xyzw) -> tuple[float, float, float, float]:
     return q_xyzw[3], q_xyzw[0], q_xyzw[1], q_xyzw[2]
+
+
+def _wxyz(q_xyzw) -> np.ndarray:
+    return np.array(_wxyz_tuple(q_xyzw))
 
 
 def _xyzw(q_wxyz) -> list[float]:

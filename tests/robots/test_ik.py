@@ -1,6 +1,8 @@
 """Whole-body IK: reachable targets are reached, limits always hold, the Jacobians it uses
 match finite differences."""
 
+from dataclasses import replace
+
 import numpy as np
 import pinocchio as pin
 import pytest
@@ -31,6 +33,19 @@ def _targets_of(model, state, in_contact=(True, True, False, False)):
         limb_in_contact=np.array(in_contact),
         com_desired_world=com,
         zmp_desired_world=np.zeros(3),
+    )
+
+
+def _out_of_reach(targets, com_shift, limb_shifts):
+    """`targets` with the CoM target moved by `com_shift` [m] and limb k's position target by
+    `limb_shifts[k]` [m]."""
+    far = targets.limb_position_world.copy()
+    for k, shift in limb_shifts.items():
+        far[k] += shift
+    return replace(
+        targets,
+        com_position_world=targets.com_position_world + np.asarray(com_shift),
+        limb_position_world=far,
     )
 
 
@@ -75,18 +90,8 @@ def test_reachable_targets_are_reached(model, seed):
 def test_unreachable_targets_keep_joints_within_limits(model):
     robot = model.robot
     start = model.standing_state()
-    targets = _targets_of(model, start)
-    far = targets.limb_position_world.copy()
-    far[2] += [1.5, 1.0, 1.0]  # left hand 2 m away
-    far[3] += [-1.0, -1.5, -1.0]
-    targets = WholeBodyTargets(
-        targets.com_position_world + np.array([0.5, 0.3, -0.6]),
-        targets.base_orientation_world,
-        far,
-        targets.limb_orientation_world,
-        targets.limb_in_contact,
-        targets.com_desired_world,
-        targets.zmp_desired_world,
+    targets = _out_of_reach(  # left hand 2 m away
+        _targets_of(model, start), [0.5, 0.3, -0.6], {2: [1.5, 1.0, 1.0], 3: [-1.0, -1.5, -1.0]}
     )
     ik = WholeBodyIK(model, DT)
     ik.reset(start)
@@ -212,21 +217,10 @@ def test_unknown_solver_is_rejected(model):
 
 def test_direct_daqp_solves_the_same_qp_as_quadprog_through_qpsolvers(model):
     """The default solver is DAQP called directly; quadprog through qpsolvers is an
-    independent solver of the same QP: the same steps, with joint limits and speed bounds
-    active (targets out of reach)."""
+    independent solver of the same QP: the same steps, with speed bounds active (targets out
+    of reach)."""
     start = model.standing_state()
-    targets = _targets_of(model, start)
-    far = targets.limb_position_world.copy()
-    far[2] += [1.5, 1.0, 1.0]
-    targets = WholeBodyTargets(
-        targets.com_position_world + np.array([0.3, 0.2, -0.3]),
-        targets.base_orientation_world,
-        far,
-        targets.limb_orientation_world,
-        targets.limb_in_contact,
-        targets.com_desired_world,
-        targets.zmp_desired_world,
-    )
+    targets = _out_of_reach(_targets_of(model, start), [0.3, 0.2, -0.3], {2: [1.5, 1.0, 1.0]})
     direct, reference = WholeBodyIK(model, DT), WholeBodyIK(model, DT, solver="quadprog")
     direct.reset(start)
     reference.reset(start)
