@@ -8,13 +8,35 @@ from __future__ import annotations
 
 import argparse
 import json
+import os
 import sys
 import time
-from collections.abc import Sequence
+from collections.abc import Callable, Sequence
+from pathlib import Path
+from typing import TypeVar
 
 import numpy as np
 
+from bench.limits import (
+    CONTROL_PERIOD_S,
+    FRICTION_MAX,
+    MASS_RANGE_KG,
+    MAX_EPISODE_SECONDS,
+    MAX_HORIZON,
+    MAX_PUSH_COUNT,
+    MAX_PUSH_DV,
+    MAX_PUSH_IMPULSE_NS,
+    MAX_WORKERS,
+    NAME_RULE,
+    SCALE_RANGE,
+    SEED_LIMIT,
+    TIMEOUT_BASE_MAX_S,
+    TIMEOUT_PER_SIM_MAX,
+    valid_name,
+)
 from sims.base import SIMULATORS, MissingDependencyError
+
+T = TypeVar("T")
 
 
 class UsageError(Exception):
@@ -26,26 +48,140 @@ class _Parser(argparse.ArgumentParser):
         raise UsageError(message)
 
 
-def _number(kind: str, minimum: float | None = None, strict: bool = False):
-    """An argparse type: a finite float, above `minimum` (strict) or at least it."""
+def _bounds(minimum: float | None, maximum: float | None, strict: bool, unit: str) -> str:
+    """The valid range in words: "a positive number", ">= 0 N s", "in [0.1, 10]"..."""
+    unit = f" {unit}" if unit else ""
+    if minimum is not None and maximum is not None:
+        return f"in {'(' if strict else '['}{minimum:g}, {maximum:g}]{unit}"
+    if minimum is not None:
+        if strict and minimum == 0:
+            return "a positive number"
+        return f"{'>' if strict else '>='} {minimum:g}{unit}"
+    if maximum is not None:
+        return f"<= {maximum:g}{unit}"
+    return "a finite number"
+
+
+def _number(
+    kind: str,
+    minimum: float | None = None,
+    strict: bool = False,
+    maximum: float | None = None,
+    unit: str = "",
+) -> Callable[[str], float]:
+    """An argparse type: a finite float, above `minimum` (strict) or at least it, and at most
+    `maximum`; the error names `kind` (the flag), the valid range and what was given."""
 
     def parse(text: str) -> float:
+        bounds = _bounds(minimum, maximum, strict, unit)
         try:
             value = float(text)
         except ValueError:
-            raise argparse.ArgumentTypeError(f"{kind} must be a number, got {text!r}") from None
+            raise argparse.ArgumentTypeError(
+                f"{kind} must be a number ({bounds}), got {text!r}"
+            ) from None
         if not np.isfinite(value):
-            raise argparse.ArgumentTypeError(f"{kind} must be finite, got {text}")
-        if minimum is not None and (value <= minimum if strict else value < minimum):
-            bound = "a positive number" if strict and minimum == 0 else f">= {minimum:g}"
-            raise argparse.ArgumentTypeError(f"{kind} must be {bound}, got {text}")
+            raise argparse.ArgumentTypeError(f"{kind} must be finite ({bounds}), got {text!r}")
+        too_low = minimum is not None and (value <= minimum if strict else value < minimum)
+        if too_low or (maximum is not None and value > maximum):
+            raise argparse.ArgumentTypeError(f"{kind} must be {bounds}, got {text!r}")
         return value
 
+    parse.__name__ = f"number for {kind}"
     return parse
 
 
-def _positive(kind: str):
+def _positive(kind: str) -> Callable[[str], float]:
     return _number(kind, 0.0, strict=True)
+
+
+def _integer(kind: str, minimum: int, maximum: int) -> Callable[[str], int]:
+    """An argparse type: an integer in [minimum, maximum]; the error names `kind` (the flag),
+    the range and what was given."""
+
+    def parse(text: str) -> int:
+        try:
+            value = int(text)
+        except ValueError:
+            value = None
+        if value is None or not minimum <= value <= maximum:
+            raise argparse.ArgumentTypeError(
+                f"{kind} must be an integer in [{minimum}, {maximum}], got {text!r}"
+            )
+        return value
+
+    parse.__name__ = f"integer for {kind}"
+    return parse
+
+
+def _listed(kind: str, item: Callable[[str], T], what: str) -> Callable[[str], list[T]]:
+    """An argparse type: a comma-separated list of at least one `item` (`what` says which;
+    empty entries, as after a trailing comma, are skipped)."""
+
+    def parse(text: str) -> list[T]:
+        parts = [part.strip() for part in text.split(",") if part.strip()]
+        if not parts:
+            raise argparse.ArgumentTypeError(
+                f"{kind} must be a comma-separated list of {what}, got {text!r}"
+            )
+        return [item(part) for part in parts]
+
+    parse.__name__ = f"list for {kind}"
+    return parse
+
+
+def _names(kind: str, what: str) -> Callable[[str], list[str]]:
+    """An argparse type: a comma-separated list of at least one name (checked later against
+    the registry, which lists the valid ones)."""
+    return _listed(kind, str, what)
+
+
+def _seed(kind: str) -> Callable[[str], int]:
+    return _integer(kind, 0, SEED_LIMIT - 1)
+
+
+def _episode_seconds(kind: str) -> Callable[[str], float]:
+    """Simulated seconds: one control period at least (else no period runs), at most
+    MAX_EPISODE_SECONDS (the trace is preallocated)."""
+    return _number(kind, CONTROL_PERIOD_S, maximum=MAX_EPISODE_SECONDS, unit="s")
+
+
+def _scale(kind: str) -> Callable[[str], float]:
+    return _number(kind, SCALE_RANGE[0], maximum=SCALE_RANGE[1])
+
+
+def _sweep_name(text: str) -> str:
+    """An argparse type: a sweep name, one plain path component (results/NAME)."""
+    if not valid_name(text):
+        raise argparse.ArgumentTypeError(f"--name must be {NAME_RULE}, got {text!r}")
+    return text
+
+
+def _output_file(flag: str, text: str, make_parents: bool) -> Path:
+    """Refuse an output file that cannot be written, before anything runs: an existing
+    directory, a path below a file, a missing folder (unless `make_parents`: the writer
+    creates it) or a folder without write permission. Touches nothing."""
+    path = Path(text)
+    if "\0" in text:
+        raise UsageError(f"{flag} {text!r} is no valid path (it holds a NUL character)")
+    if path.is_dir():
+        raise UsageError(f"{flag} {text} is a directory; give a file name")
+    folder = path.parent
+    if not make_parents and not folder.exists():
+        raise UsageError(f"{flag} {text}: folder {folder} does not exist")
+    while not folder.exists() and folder != folder.parent:
+        folder = folder.parent
+    if not folder.is_dir():
+        raise UsageError(f"{flag} {text}: {folder} is not a folder")
+    if not os.access(folder, os.W_OK):
+        raise UsageError(f"{flag} {text}: folder {folder} is not writable")
+    return path
+
+
+def _write_failed(flag: str, path: str | Path, exc: OSError) -> UsageError:
+    """One line for an output file that could not be written after all."""
+    reason = exc.strerror or str(exc) or type(exc).__name__
+    return UsageError(f"{flag} {path}: cannot write it: {reason}")
 
 
 def _one_simulator(text: str) -> str:
@@ -80,13 +216,14 @@ def build_parser() -> argparse.ArgumentParser:
     )
     robot.add_argument(
         "--scale",
-        type=_positive("--scale"),
+        type=_scale("--scale"),
         default=1.0,
-        help="length scale (1 = 1.60 m); mass scales with its cube",
+        help=f"length scale (1 = 1.60 m), {SCALE_RANGE[0]:g} to {SCALE_RANGE[1]:g}; mass "
+        "scales with its cube",
     )
     robot.add_argument(
         "--mass",
-        type=_positive("--mass"),
+        type=_number("--mass", MASS_RANGE_KG[0], maximum=MASS_RANGE_KG[1], unit="kg"),
         default=None,
         help="total mass [kg] instead of the scaled one",
     )
@@ -99,13 +236,14 @@ def build_parser() -> argparse.ArgumentParser:
     run.add_argument("--scenario", required=True, help="a scenario name")
     run.add_argument(
         "--duration",
-        type=_positive("--duration"),
+        type=_episode_seconds("--duration"),
         default=None,
-        help="simulated seconds (default: the scenario's)",
+        help=f"simulated seconds, {CONTROL_PERIOD_S:g} to {MAX_EPISODE_SECONDS:g} "
+        "(default: the scenario's)",
     )
     run.add_argument(
         "--push-impulse",
-        type=_number("--push-impulse", 0.0),
+        type=_number("--push-impulse", 0.0, maximum=MAX_PUSH_IMPULSE_NS, unit="N s"),
         default=None,
         help="push impulse [N s] (scenarios with a push)",
     )
@@ -118,7 +256,9 @@ def build_parser() -> argparse.ArgumentParser:
     run.add_argument(
         "--estimator", default="ground_truth", help="ground_truth (default) or proprioceptive"
     )
-    run.add_argument("--seed", type=int, default=0, help="random seed (default 0)")
+    run.add_argument(
+        "--seed", type=_seed("--seed"), default=0, help="random seed, 0 to 2**32 - 1 (default 0)"
+    )
     run.add_argument("--out", default=None, help="write the per-period trace to FILE.parquet")
     run.add_argument("--json", action="store_true", help="the summary as one JSON object")
 
@@ -131,7 +271,7 @@ def build_parser() -> argparse.ArgumentParser:
     compare.add_argument(
         "--planners",
         required=True,
-        type=lambda text: [n.strip() for n in text.split(",") if n.strip()],
+        type=_names("--planners", "planner names (see `centrobench list`)"),
         help="comma-separated planner names, e.g. preview_control,linear_mpc",
     )
     compare.add_argument("--scenario", default="walk", help="a scenario name (default walk)")
@@ -146,13 +286,18 @@ def build_parser() -> argparse.ArgumentParser:
     )
     compare.add_argument(
         "--horizons",
-        type=lambda text: [int(n) for n in text.split(",")],
+        type=_listed(
+            "--horizons",
+            _integer("every --horizons value", 1, MAX_HORIZON),
+            f"horizon sample counts in [1, {MAX_HORIZON}]",
+        ),
         default=None,
-        help="also time linear_mpc's update for these horizon lengths, e.g. 10,20,40,80",
+        help="also time linear_mpc's update for these horizon lengths, e.g. 10,20,40,80 "
+        f"(at most {MAX_HORIZON})",
     )
     compare.add_argument(
         "--formulations",
-        type=lambda text: [n.strip() for n in text.split(",")],
+        type=_names("--formulations", "formulation names"),
         default=None,
         help="formulations for --horizons (default: all)",
     )
@@ -169,37 +314,118 @@ def build_parser() -> argparse.ArgumentParser:
     )
     demo.add_argument(
         "--duration",
-        type=_positive("--duration"),
+        type=_episode_seconds("--duration"),
         default=3.0,
-        help="simulated seconds (default 3)",
+        help=f"simulated seconds, {CONTROL_PERIOD_S:g} to {MAX_EPISODE_SECONDS:g} (default 3)",
     )
-    demo.add_argument("--scale", type=_positive("--scale"), default=1.0, help="length scale")
+    demo.add_argument("--scale", type=_scale("--scale"), default=1.0, help="length scale")
 
     sweep = commands.add_parser(
         "sweep",
         help="run a grid of episodes (TOML spec or flags) on local processes or Ray",
     )
     sweep.add_argument("--spec", default=None, help="a TOML sweep spec (see bench/sweep_spec.py)")
-    _names_arg = lambda text: [n.strip() for n in text.split(",") if n.strip()]  # noqa: E731
-    _numbers_arg = lambda text: [float(n) for n in text.split(",") if n.strip()]  # noqa: E731
-    sweep.add_argument("--controllers", type=_names_arg, help="planner+stabilizer names, or all")
-    sweep.add_argument("--sims", type=_names_arg, help="mujoco, pybullet or all")
-    sweep.add_argument("--scenarios", type=_names_arg, help="scenarios without a push")
-    sweep.add_argument("--push-dv", type=_numbers_arg, help="push levels dv = J / m [m/s]")
-    sweep.add_argument("--push-count", type=int, help="pushes per level (default 20)")
-    sweep.add_argument("--push-phases", type=_names_arg, help="standing, walking")
-    sweep.add_argument("--push-seed", type=int, help="seed of the push directions (default 0)")
-    sweep.add_argument("--seeds", type=lambda t: [int(n) for n in t.split(",")], help="seeds")
-    sweep.add_argument("--scales", type=_numbers_arg, help="robot length scales")
-    sweep.add_argument("--frictions", type=_numbers_arg, help="friction coefficients")
-    sweep.add_argument("--duration", type=float, help="seconds of the plain scenarios")
-    sweep.add_argument("--name", default=None, help="the sweep's name")
+    sweep.add_argument(
+        "--controllers",
+        type=_names("--controllers", "controller names (planner+stabilizer) or all"),
+        help="planner+stabilizer names, or all",
+    )
+    sweep.add_argument(
+        "--sims", type=_names("--sims", "simulator names or all"), help="mujoco, pybullet or all"
+    )
+    sweep.add_argument(
+        "--scenarios",
+        type=_names("--scenarios", "scenario names"),
+        help="scenarios without a push",
+    )
+    dv = f"velocity changes in (0, {MAX_PUSH_DV:g}] m/s"
+    sweep.add_argument(
+        "--push-dv",
+        type=_listed(
+            "--push-dv",
+            _number("every --push-dv value", 0.0, True, MAX_PUSH_DV, unit="m/s"),
+            dv,
+        ),
+        help=f"push levels dv = J / m [m/s], at most {MAX_PUSH_DV:g}",
+    )
+    sweep.add_argument(
+        "--push-count",
+        type=_integer("--push-count", 1, MAX_PUSH_COUNT),
+        help=f"pushes per level, 1 to {MAX_PUSH_COUNT} (default 20)",
+    )
+    sweep.add_argument(
+        "--push-phases", type=_names("--push-phases", "push phases"), help="standing, walking"
+    )
+    sweep.add_argument(
+        "--push-seed",
+        type=_seed("--push-seed"),
+        help="seed of the push directions, 0 to 2**32 - 1 (default 0)",
+    )
+    sweep.add_argument(
+        "--seeds",
+        type=_listed("--seeds", _seed("every --seeds value"), f"integers in [0, {SEED_LIMIT - 1}]"),
+        help="seeds, 0 to 2**32 - 1",
+    )
+    sweep.add_argument(
+        "--scales",
+        type=_listed(
+            "--scales",
+            _scale("every --scales value"),
+            f"length scales in [{SCALE_RANGE[0]:g}, {SCALE_RANGE[1]:g}]",
+        ),
+        help=f"robot length scales, {SCALE_RANGE[0]:g} to {SCALE_RANGE[1]:g}",
+    )
+    sweep.add_argument(
+        "--frictions",
+        type=_listed(
+            "--frictions",
+            _number("every --frictions value", 0.0, True, FRICTION_MAX),
+            f"friction coefficients in (0, {FRICTION_MAX:g}]",
+        ),
+        help=f"friction coefficients, at most {FRICTION_MAX:g}",
+    )
+    sweep.add_argument(
+        "--duration",
+        type=_episode_seconds("--duration"),
+        help=f"seconds of the plain scenarios, {CONTROL_PERIOD_S:g} to {MAX_EPISODE_SECONDS:g}",
+    )
+    sweep.add_argument(
+        "--name", type=_sweep_name, default=None, help=f"the sweep's name: {NAME_RULE}"
+    )
     sweep.add_argument("--out", default=None, help="result directory (default results/NAME)")
     sweep.add_argument("--executor", default="local", choices=("local", "ray"))
     sweep.add_argument("--address", default=None, help="Ray cluster address (with --executor ray)")
-    sweep.add_argument("--workers", type=int, default=None, help="processes (default: cores)")
+    sweep.add_argument(
+        "--workers",
+        type=_integer("--workers", 1, MAX_WORKERS),
+        default=None,
+        help=f"processes, 1 to {MAX_WORKERS} (default: cores)",
+    )
     sweep.add_argument("--resume", action="store_true", help="run only the missing episodes")
-    sweep.add_argument("--overwrite", action="store_true", help="delete earlier results in OUT")
+    sweep.add_argument(
+        "--retry-errors",
+        action="store_true",
+        help="with --resume: also run again the episodes that ended in an error or a timeout",
+    )
+    sweep.add_argument(
+        "--overwrite",
+        action="store_true",
+        help="start again: earlier results in OUT are moved aside, and deleted once the new "
+        "sweep has written its first episode",
+    )
+    sweep.add_argument(
+        "--timeout-base-s",
+        type=_number("--timeout-base-s", 0.0, strict=True, maximum=TIMEOUT_BASE_MAX_S),
+        default=None,
+        help="wall-clock budget of every episode [s] (default 60) ...",
+    )
+    sweep.add_argument(
+        "--timeout-per-sim-s",
+        type=_number("--timeout-per-sim-s", 0.0, strict=True, maximum=TIMEOUT_PER_SIM_MAX),
+        default=None,
+        help="... plus this many seconds per simulated second (default 10); past it an "
+        "episode ends as 'timeout'",
+    )
     sweep.add_argument("--no-progress", action="store_true", help="no progress bar")
 
     report = commands.add_parser("report", help="build report.md and report.html from results")
@@ -277,8 +503,12 @@ def _compare(args: argparse.Namespace) -> int:
             raise UsageError(
                 f"unknown formulation {name!r}; choose one of: {', '.join(FORMULATIONS)}"
             )
-    if args.horizons is not None and any(h < 1 for h in args.horizons):
-        raise UsageError(f"--horizons must be positive sample counts, got {args.horizons}")
+    horizons_out = None
+    if args.out:
+        _output_file("--out", args.out, make_parents=False)
+        if args.horizons:
+            horizons_out = args.out.replace(".csv", "") + "_horizons.csv"
+            _output_file("--out", horizons_out, make_parents=False)
     n = len(args.planners) * len(args.sims)
     print(f"running {n} episodes ({args.scenario}) ...", file=sys.stderr, flush=True)
     done = []
@@ -298,7 +528,10 @@ def _compare(args: argparse.Namespace) -> int:
     for _, row in failed.iterrows():
         print(f"{row['planner']} on {row['sim']}: {row['status']}: {row['error']}")
     if args.out:
-        table.to_csv(args.out, index=False)
+        try:
+            table.to_csv(args.out, index=False)
+        except OSError as exc:
+            raise _write_failed("--out", args.out, exc) from None
     if args.horizons:
         timing = horizon_timing(formulations, args.horizons)
         print()
@@ -308,8 +541,11 @@ def _compare(args: argparse.Namespace) -> int:
                     index="formulation", columns="horizon_samples", values="median_ms"
                 ).to_string(float_format="%.2f")
             )
-        if args.out:
-            timing.to_csv(args.out.replace(".csv", "") + "_horizons.csv", index=False)
+        if horizons_out:
+            try:
+                timing.to_csv(horizons_out, index=False)
+            except OSError as exc:
+                raise _write_failed("--out", horizons_out, exc) from None
     return 0
 
 
@@ -329,6 +565,8 @@ def _run(args: argparse.Namespace) -> int:
     ].takes_push:
         pushing = ", ".join(s.name for s in SCENARIOS.values() if s.takes_push)
         raise UsageError(f"scenario {args.scenario!r} takes no push; scenarios with one: {pushing}")
+    if args.out:
+        _output_file("--out", args.out, make_parents=True)  # write_trace makes the folders
     spec = EpisodeSpec(
         planner=args.planner,
         stabilizer=args.stabilizer,
@@ -342,11 +580,20 @@ def _run(args: argparse.Namespace) -> int:
     )
     result = run_episode(spec)
     summary = summary_json_ready(result.summary)
+    _print_summary(summary, args.json)  # first: a trace that cannot be written loses nothing
     if args.out:
         from bench.results import write_trace
 
-        write_trace(result.trace, summary, args.out)
-    if args.json:
+        try:
+            write_trace(result.trace, summary, args.out)
+        except OSError as exc:
+            raise _write_failed("--out", args.out, exc) from None
+    return 0 if summary["status"] != "error" else 1
+
+
+def _print_summary(summary: dict, as_json: bool) -> None:
+    """An episode's summary: one JSON object, or three lines and the latency table."""
+    if as_json:
         print(json.dumps(summary))
     else:
         print(
@@ -369,7 +616,6 @@ def _run(args: argparse.Namespace) -> int:
             print(
                 f"{stage:<16} {stats['median']:>10.1f} {stats['p99']:>10.1f} {stats['max']:>10.1f}"
             )
-    return 0 if summary["status"] != "error" else 1
 
 
 def _list(args: argparse.Namespace) -> int:
@@ -435,25 +681,20 @@ def _demo(args: argparse.Namespace) -> int:
 
 
 def _sweep_mapping(args: argparse.Namespace) -> dict:
-    """The spec's fields: from --spec (TOML), overridden by the flags given."""
-    import tomllib
+    """The spec's fields: from --spec (TOML), overridden by the flags given. SpecError for a
+    --spec that cannot be read as TOML."""
+    from bench.sweep_spec import read_spec_file
 
-    data: dict = {}
-    if args.spec is not None:
-        from pathlib import Path
-
-        try:
-            data = tomllib.loads(Path(args.spec).read_text())
-        except FileNotFoundError:
-            raise UsageError(f"sweep spec {args.spec} does not exist") from None
-        except tomllib.TOMLDecodeError as exc:
-            raise UsageError(f"sweep spec {args.spec} is not valid TOML: {exc}") from None
+    data: dict = {} if args.spec is None else read_spec_file(args.spec)
     for flag in ("controllers", "sims", "scenarios", "seeds", "scales", "frictions", "duration"):
         value = getattr(args, flag)
         if value is not None:
             data[flag] = value
     if args.name is not None:
         data["name"] = args.name
+    for flag in ("timeout_base_s", "timeout_per_sim_s"):
+        if getattr(args, flag) is not None:
+            data[flag] = getattr(args, flag)
     push = dict(data.get("push", {})) if isinstance(data.get("push"), dict) else data.get("push")
     for flag, key in (
         ("push_dv", "dv"),
@@ -478,13 +719,21 @@ def _sweep(args: argparse.Namespace) -> int:
         spec = spec_from_mapping(_sweep_mapping(args))
     except SpecError as exc:
         raise UsageError(str(exc)) from None
-    if args.workers is not None and args.workers < 1:
-        raise UsageError(f"--workers must be >= 1, got {args.workers}")
     if args.resume and args.overwrite:
         raise UsageError("--resume and --overwrite exclude each other")
+    if args.retry_errors and not args.resume:
+        raise UsageError("--retry-errors goes with --resume")
     out = args.out or f"results/{spec.name}"
-    total = len(spec.episodes())
-    print(f"sweep {spec.name!r}: {total} episodes -> {out} ({args.executor})", file=sys.stderr)
+
+    def announce(total: int, todo: int) -> None:
+        left = "" if todo == total else f" ({total - todo} done, {todo} to run)"
+        print(
+            f"sweep {spec.name!r}: {total} episodes{left} -> {out} ({args.executor})",
+            file=sys.stderr,
+        )
+
+    from bench.dataset import ResultStoreError
+
     try:
         frame = run_sweep(
             spec,
@@ -494,19 +743,27 @@ def _sweep(args: argparse.Namespace) -> int:
             address=args.address,
             resume=args.resume,
             overwrite=args.overwrite,
+            retry_errors=args.retry_errors,
             progress=not args.no_progress,
+            on_start=announce,
         )
-    except FileExistsError as exc:
+    except (ResultStoreError, ImportError) as exc:
         raise UsageError(str(exc)) from None
-    except ImportError as exc:
-        raise UsageError(str(exc)) from None
-    except KeyboardInterrupt:
+    except OSError as exc:  # the results disk: full, unwritable, gone
+        raise UsageError(f"cannot write the results in {out}: {exc.strerror or exc}") from None
+    except RuntimeError as exc:  # the executor could not run (workers die at start-up)
+        print(f"centrobench: error: {' '.join(str(exc).split())}", file=sys.stderr)
+        return 1
+    except KeyboardInterrupt as exc:
+        from bench.sweep import SweepTerminated
+
+        terminated = isinstance(exc, SweepTerminated)
         print(
-            f"\ninterrupted: the finished episodes are in {out}; "
-            "run the same command with --resume to complete the sweep",
+            f"\n{'terminated (SIGTERM)' if terminated else 'interrupted'}: the finished "
+            f"episodes are in {out}; run the same command with --resume to complete the sweep",
             file=sys.stderr,
         )
-        return 130
+        return 143 if terminated else 130
     counts = frame["status"].value_counts().to_dict()
     print(
         f"{len(frame)} episodes in {out}: "
@@ -545,11 +802,31 @@ def main(argv: Sequence[str] | None = None) -> int:
             "sweep": _sweep,
             "report": _report,
         }
-        return commands[args.command](args)
+        status = commands[args.command](args)
+        sys.stdout.flush()  # a closed pipe (`| head -1`) shows here, not at interpreter exit
+        return status
+    except BrokenPipeError:
+        # the reader of stdout went away (`centrobench robot --json | head -1`): stop quietly,
+        # as the Python docs advise (signal module, "Note on SIGPIPE"): point stdout at
+        # devnull so that the flush at exit does not fail again, and exit 1 like Python does
+        try:
+            devnull = os.open(os.devnull, os.O_WRONLY)
+            os.dup2(devnull, sys.stdout.fileno())
+        except (OSError, ValueError):  # stdout is no file (captured in-process)
+            pass
+        return 1
     except (UsageError, MissingDependencyError, ValueError, KeyError) as exc:
-        message = exc.args[0] if exc.args else str(exc)
-        print(f"centrobench: error: {message}", file=sys.stderr)
+        # a KeyError's str() quotes its message; a UnicodeDecodeError's args[0] is the codec
+        message = exc.args[0] if isinstance(exc, KeyError) and exc.args else exc
+        text = _one_line(str(message)) or type(exc).__name__
+        print(f"centrobench: error: {text}", file=sys.stderr)
         return 2
+
+
+def _one_line(message: str) -> str:
+    """`message` on one line: its lines joined with a space (a simulator's error can span
+    several)."""
+    return " ".join(line.strip() for line in message.splitlines() if line.strip())
 
 
 if __name__ == "__main__":

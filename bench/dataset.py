@@ -3,16 +3,28 @@
     DIR/sweep.json                      the spec (and its digest) the results belong to
     DIR/episodes/<episode_id>.parquet   one summary row per finished episode (`ROW_SCHEMA`)
     DIR/traces/<episode_id>.parquet     the per-period trace, for the episodes that keep one
+    DIR/.lock                           held (flock) by the sweep writing into DIR
+    DIR/corrupt/                        unreadable or foreign files found by a resume
+    DIR/.previous-*/                    with --overwrite: the old results, until the new
+                                        sweep has written its first episode
 
 Each file is written to a temporary name and renamed, so a file that exists is complete: an
 interrupted sweep keeps every finished episode, and `--resume` runs only the missing ids.
-`read_episodes(DIR)` reads the summary rows as one DataFrame (pyarrow dataset).
+One sweep at a time writes into a directory (`ResultStore.locked`: an flock, which the kernel
+releases when its process dies however it dies, so a lock is never stale).
+`read_episodes(DIR)` reads the summary rows as one DataFrame.
 """
 
 from __future__ import annotations
 
+import contextlib
+import datetime
+import fcntl
 import json
 import os
+import shutil
+import socket
+from collections.abc import Iterator
 from pathlib import Path
 from typing import Any
 
@@ -59,6 +71,7 @@ ROW_SCHEMA = pa.schema(
         ("push_direction_deg", _FLOAT),
         ("status", _STRING),
         ("error", _STRING),
+        ("error_stage", _STRING),
         ("fell", _BOOL),
         ("fall_time", _FLOAT),
         ("fall_reason", _STRING),
@@ -119,6 +132,7 @@ def summary_row(
         "mass_kg",
         "status",
         "error",
+        "error_stage",
         "fell",
         "fall_time",
         "fall_reason",
@@ -145,22 +159,79 @@ def summary_row(
     if trace is not None and len(trace):
         row.update(walking_quality(trace))
         row.update(feedback_magnitude(trace))
-    if labels.get("push_phase") is not None:
-        # survival: no fall (and no error) before the end, 3 s after the push
+    if labels.get("push_phase") is not None and row["status"] in JUDGED_STATUSES:
+        # survival: no fall before the end, `survival_time` after the push; an episode that
+        # ended in an error or a timeout says nothing about the controller (survived None)
         complete = requested_duration is None or row["duration"] >= requested_duration - 1e-6
         row["survived"] = row["status"] == "ok" and complete
     return row
 
 
-def error_row(labels: dict[str, Any], base: dict[str, Any], message: str) -> dict[str, Any]:
-    """The row of an episode that produced no summary (its worker died, or it raised)."""
+JUDGED_STATUSES = ("ok", "fell")  # the statuses that say whether a push was survived
+RETRIED_STATUSES = ("error", "timeout")  # what `--resume --retry-errors` runs again
+
+
+def failure_row(
+    labels: dict[str, Any],
+    base: dict[str, Any],
+    message: str,
+    status: str = "error",
+    stage: str | None = None,
+    duration: float | None = None,
+) -> dict[str, Any]:
+    """The row of an episode that produced no summary: its worker died or it raised (status
+    "error"), or it overran its wall-clock budget (status "timeout", with the `stage` it was
+    in and the simulated `duration` [s] it reached)."""
     row: dict[str, Any] = {name: None for name in ROW_SCHEMA.names}
     row.update(base)
     row.update(labels)
-    row.update(status="error", error=message, fell=False)
-    if labels.get("push_phase") is not None:
-        row["survived"] = False
+    row.update(status=status, error=message, error_stage=stage, fell=False, duration=duration)
     return row
+
+
+class ResultStoreError(RuntimeError):
+    """The result directory cannot be used as asked; one line that says why and what to do."""
+
+
+def read_episode_file(path: Path) -> pa.Table:
+    """One episode file as a one-row `ROW_SCHEMA` table; ValueError saying why it is not one
+    (unreadable Parquet, another schema, not one row, or a row of another episode). A file of
+    an older centrobench that lacks later columns is read with those columns null."""
+    try:
+        table = pq.read_table(path)
+    except (OSError, pa.ArrowException) as exc:
+        raise ValueError(f"not a readable Parquet file ({' '.join(str(exc).split())})") from None
+    names = set(table.schema.names)
+    unknown = sorted(names - set(ROW_SCHEMA.names))
+    if unknown or "episode_id" not in names or "status" not in names:
+        raise ValueError(
+            "not a centrobench episode row (columns "
+            + (f"{', '.join(unknown[:3])} unknown" if unknown else "episode_id, status missing")
+            + ")"
+        )
+    for name in ROW_SCHEMA.names:
+        if name not in names:
+            table = table.append_column(name, pa.nulls(len(table), ROW_SCHEMA.field(name).type))
+    try:
+        table = table.select(ROW_SCHEMA.names).cast(ROW_SCHEMA)
+    except (pa.ArrowException, ValueError) as exc:
+        raise ValueError(f"columns of the wrong type ({' '.join(str(exc).split())})") from None
+    if table.num_rows != 1 or table.column("episode_id")[0].as_py() != path.stem:
+        raise ValueError(f"{table.num_rows} rows, not the one row of episode {path.stem}")
+    return table
+
+
+def scan_episodes(root: str | Path) -> tuple[pa.Table | None, list[tuple[Path, str]]]:
+    """(the valid episode rows under `root` as one table or None, [(file, why it is not
+    valid)])."""
+    folder = Path(root) / "episodes"
+    tables, bad = [], []
+    for path in sorted(folder.glob("*.parquet")) if folder.exists() else ():
+        try:
+            tables.append(read_episode_file(path))
+        except ValueError as exc:
+            bad.append((path, str(exc)))
+    return (pa.concat_tables(tables) if tables else None), bad
 
 
 class ResultStore:
@@ -170,41 +241,178 @@ class ResultStore:
         self.root = Path(root)
         self.episodes_dir = self.root / "episodes"
         self.traces_dir = self.root / "traces"
+        self.corrupt_dir = self.root / "corrupt"
+        self.record_path = self.root / "sweep.json"
+        self.aside: Path | None = None  # the old results, moved aside by --overwrite
+        self.bad_files: list[tuple[Path, str]] = []  # moved to corrupt/ by the last resume
 
-    def prepare(self, spec: dict[str, Any], digest: str, resume: bool, overwrite: bool) -> None:
-        """Create the directory for `spec`. An existing directory with results is an error
-        unless `resume` (same spec only) or `overwrite` (its results are deleted)."""
-        existing = self.finished_ids()
-        recorded = self.spec_record()
-        if existing and not (resume or overwrite):
-            raise FileExistsError(
-                f"{self.root} already holds {len(existing)} episodes; pass --resume to complete "
-                "that sweep or --overwrite to start again"
-            )
-        if resume and recorded is not None and recorded.get("digest") != digest:
-            raise FileExistsError(
-                f"{self.root} holds the results of another spec (digest "
-                f"{recorded.get('digest')}); --resume needs the same spec (digest {digest})"
-            )
-        if overwrite:
-            for folder in (self.episodes_dir, self.traces_dir):
-                for path in folder.glob("*.parquet") if folder.exists() else ():
-                    path.unlink()
-        self.episodes_dir.mkdir(parents=True, exist_ok=True)
-        self.traces_dir.mkdir(parents=True, exist_ok=True)
-        _atomic_write_text(
-            self.root / "sweep.json", json.dumps({"digest": digest, "spec": spec}, indent=2)
-        )
+    # ------------------------------------------------------------------------ checks
+    def check_usable(self) -> None:
+        """ResultStoreError unless the directory exists and is writable, or can be created
+        (checked without creating anything)."""
+        root = self.root
+        if root.exists() and not root.is_dir():
+            raise ResultStoreError(f"--out {root} is a file, not a directory")
+        probe = root
+        while not probe.exists():
+            probe = probe.parent
+        if not probe.is_dir():
+            raise ResultStoreError(f"--out {root}: {probe} is a file, not a directory")
+        if not os.access(probe, os.W_OK | os.X_OK):
+            raise ResultStoreError(f"--out {root}: {probe} is not writable")
+        for folder in (self.episodes_dir, self.traces_dir):
+            if folder.exists() and not os.access(folder, os.W_OK | os.X_OK):
+                raise ResultStoreError(f"--out {root}: {folder} is not writable")
 
     def spec_record(self) -> dict | None:
-        path = self.root / "sweep.json"
-        return json.loads(path.read_text()) if path.exists() else None
+        """sweep.json's content, None if there is none; ResultStoreError if it is corrupt."""
+        if not self.record_path.exists():
+            return None
+        try:
+            record = json.loads(self.record_path.read_text())
+        except (OSError, UnicodeDecodeError, json.JSONDecodeError) as exc:
+            raise ResultStoreError(
+                f"{self.record_path} is not a readable sweep record ({exc}); move it away, "
+                "or pass --overwrite to start again"
+            ) from None
+        if not isinstance(record, dict) or not isinstance(record.get("spec"), dict):
+            raise ResultStoreError(
+                f"{self.record_path} is not a sweep record (no 'spec' table); move it away, "
+                "or pass --overwrite to start again"
+            )
+        return record
+
+    def episode_files(self) -> list[Path]:
+        return sorted(self.episodes_dir.glob("*.parquet")) if self.episodes_dir.exists() else []
 
     def finished_ids(self) -> set[str]:
-        if not self.episodes_dir.exists():
-            return set()
-        return {p.stem for p in self.episodes_dir.glob("*.parquet")}
+        """The ids of the episode files present (valid or not)."""
+        return {path.stem for path in self.episode_files()}
 
+    # ------------------------------------------------------------------------ the lock
+    @contextlib.contextmanager
+    def locked(self) -> Iterator[None]:
+        """Hold the directory's lock for the block; ResultStoreError naming the holder if
+        another process holds it. The kernel drops an flock when its holder dies."""
+        self.root.mkdir(parents=True, exist_ok=True)
+        path = self.root / ".lock"
+        handle = open(path, "a+")  # noqa: SIM115 - held for the block
+        try:
+            try:
+                fcntl.flock(handle, fcntl.LOCK_EX | fcntl.LOCK_NB)
+            except BlockingIOError:
+                handle.seek(0)
+                holder = " ".join(handle.read().split()) or "another process"
+                raise ResultStoreError(
+                    f"{self.root} is in use by another sweep ({holder}); wait for it to "
+                    "finish or choose another --out"
+                ) from None
+            handle.seek(0)
+            handle.truncate()
+            started = datetime.datetime.now(datetime.UTC).strftime("%Y-%m-%d %H:%M:%S UTC")
+            handle.write(f"pid {os.getpid()} on {socket.gethostname()}, since {started}\n")
+            handle.flush()
+            yield
+        finally:
+            handle.close()  # releases the flock
+
+    # ------------------------------------------------------------------------ preparing
+    def prepare(
+        self,
+        spec: dict[str, Any],
+        digest: str,
+        resume: bool,
+        overwrite: bool,
+        identity: dict[str, Any] | None = None,
+        retry: tuple[str, ...] = (),
+    ) -> set[str]:
+        """Make the directory ready for `spec` (call inside `locked`) and return the ids of
+        the episodes already done, which the sweep skips.
+
+        Without `resume` or `overwrite` a directory with results is refused. `resume` needs
+        the same spec (`identity`: the fields that decide the results; a difference is named)
+        and a sweep.json; unreadable or foreign episode files are moved to corrupt/ and their
+        episodes run again, as are those whose status is in `retry`. `overwrite` moves the
+        old results to .previous-*/ (`discard_aside` deletes them once the new sweep has
+        written an episode, `restore_aside` puts them back if it never does)."""
+        existing = self.episode_files()
+        if existing and not (resume or overwrite):
+            raise ResultStoreError(
+                f"{self.root} already holds {len(existing)} episodes; pass --resume to "
+                "complete that sweep or --overwrite to start again"
+            )
+        done: set[str] = set()
+        if resume:
+            recorded = self.spec_record()
+            if recorded is None and existing:
+                raise ResultStoreError(
+                    f"{self.root} holds {len(existing)} episodes but no sweep.json, so their "
+                    "spec is unknown; --resume needs it (pass --overwrite to start again)"
+                )
+            if recorded is not None and recorded.get("digest") != digest:
+                fields = spec_differences(recorded["spec"], identity or spec)
+                raise ResultStoreError(
+                    f"{self.root} holds the results of another spec (fields that differ: "
+                    f"{', '.join(fields) or 'unknown'}); --resume needs the same spec"
+                )
+            done = self._valid_ids(retry)
+        if overwrite:
+            self._move_aside()
+        self.episodes_dir.mkdir(parents=True, exist_ok=True)
+        self.traces_dir.mkdir(parents=True, exist_ok=True)
+        _atomic_write_text(self.record_path, json.dumps({"digest": digest, "spec": spec}, indent=2))
+        return done
+
+    def _valid_ids(self, retry: tuple[str, ...]) -> set[str]:
+        """Ids of the valid episode files whose status is not in `retry`; invalid files are
+        moved to corrupt/ (their episodes run again)."""
+        table, bad = scan_episodes(self.root)
+        for path, _ in bad:
+            self.corrupt_dir.mkdir(exist_ok=True)
+            stamp = datetime.datetime.now(datetime.UTC).strftime("%Y%m%dT%H%M%S")
+            os.replace(path, self.corrupt_dir / f"{path.stem}.{stamp}.parquet")
+        self.bad_files = bad
+        if table is None:
+            return set()
+        ids = table.column("episode_id").to_pylist()
+        statuses = table.column("status").to_pylist()
+        return {i for i, status in zip(ids, statuses, strict=True) if status not in retry}
+
+    def _move_aside(self) -> None:
+        names = [
+            n for n in ("episodes", "traces", "corrupt", "sweep.json") if (self.root / n).exists()
+        ]
+        if not names:
+            return
+        stamp = datetime.datetime.now(datetime.UTC).strftime("%Y%m%dT%H%M%S")
+        self.aside = self.root / f".previous-{stamp}-{os.getpid()}"
+        self.aside.mkdir()
+        for name in names:
+            os.replace(self.root / name, self.aside / name)
+
+    def discard_aside(self) -> None:
+        """Delete the results that --overwrite moved aside (the new sweep has started)."""
+        if self.aside is not None:
+            shutil.rmtree(self.aside, ignore_errors=True)
+            self.aside = None
+
+    def restore_aside(self) -> None:
+        """Put back the results that --overwrite moved aside (the new sweep wrote nothing)."""
+        if self.aside is None:
+            return
+        for name in ("episodes", "traces", "corrupt", "sweep.json"):
+            source = self.aside / name
+            if source.exists():
+                target = self.root / name
+                if target.is_dir():
+                    shutil.rmtree(target)
+                elif target.exists():
+                    target.unlink()
+                os.replace(source, target)
+        shutil.rmtree(self.aside, ignore_errors=True)
+        self.aside = None
+
+    # ------------------------------------------------------------------------ writing
     def write(self, row: dict[str, Any], trace: pd.DataFrame | None) -> None:
         """Write the trace first, then the row: a row on disk means a finished episode."""
         episode_id = row["episode_id"]
@@ -221,22 +429,50 @@ class ResultStore:
         return pq.read_table(self.traces_dir / f"{episode_id}.parquet").to_pandas()
 
 
+def spec_differences(recorded: dict[str, Any], current: dict[str, Any]) -> list[str]:
+    """The names of the fields (push.* for the push table) whose values differ between two
+    spec dicts; fields that say how a sweep runs (timeouts) are not compared."""
+    from bench.sweep_spec import EXECUTION_FIELDS
+
+    def normal(value: Any) -> Any:
+        return json.loads(json.dumps(value))  # tuples as lists, as sweep.json stores them
+
+    differing = []
+    for name in sorted(set(recorded) | set(current)):
+        if name in EXECUTION_FIELDS:
+            continue
+        a, b = normal(recorded.get(name)), normal(current.get(name))
+        if isinstance(a, dict) and isinstance(b, dict):
+            differing += [f"{name}.{k}" for k in sorted(set(a) | set(b)) if a.get(k) != b.get(k)]
+        elif a != b:
+            differing.append(name)
+    return differing
+
+
 def read_episodes(root: str | Path) -> pd.DataFrame:
-    """Every finished episode's row under `root` (a sweep directory), sorted by episode id."""
-    folder = Path(root) / "episodes"
-    if not folder.exists() or not any(folder.glob("*.parquet")):
-        raise FileNotFoundError(f"no episode results under {folder}")
-    frame = pq.read_table(folder, schema=ROW_SCHEMA).to_pandas()
-    return frame.sort_values("episode_id", ignore_index=True)
+    """Every valid episode row under `root` (a sweep directory), sorted by episode id
+    (`scan_episodes` says which files were left out and why)."""
+    table, _ = scan_episodes(root)
+    if table is None:
+        raise FileNotFoundError(f"no episode results under {Path(root) / 'episodes'}")
+    return table.to_pandas().sort_values("episode_id", ignore_index=True)
 
 
 def _atomic_write_table(table: pa.Table, path: Path) -> None:
     temporary = path.with_name(f".{path.name}.{os.getpid()}.tmp")
-    pq.write_table(table, temporary)
-    os.replace(temporary, path)
+    try:
+        pq.write_table(table, temporary)
+        os.replace(temporary, path)
+    finally:
+        with contextlib.suppress(FileNotFoundError):
+            temporary.unlink()
 
 
 def _atomic_write_text(path: Path, text: str) -> None:
     temporary = path.with_name(f".{path.name}.{os.getpid()}.tmp")
-    temporary.write_text(text)
-    os.replace(temporary, path)
+    try:
+        temporary.write_text(text)
+        os.replace(temporary, path)
+    finally:
+        with contextlib.suppress(FileNotFoundError):
+            temporary.unlink()

@@ -1,45 +1,246 @@
-"""Where a sweep's episodes run: a local process pool (default, workers = cores) or Ray.
+"""Where a sweep's episodes run: local worker processes (default, one per core) or Ray.
 
 Both run `fn(item)` for every item and yield `(item, result)` as items finish, in completion
-order; `result` is the exception when the call raised or its worker died. Neither stops at a
-failed item.
+order; `result` is the exception when the call raised (`WorkerDied` when its worker process
+died, `EpisodeTimeout` when it overran its wall-clock budget). Neither stops at a failed item.
 
-Local pool: at most `workers` episodes are in flight, each in a fresh simulator inside a
-long-lived worker process (spawned, so no simulator or BLAS state is inherited). When a worker
-dies (killed, or a crash in a simulator's C code) the pool breaks and every in-flight episode
-with it; those are run again one at a time, so that the one that kills its worker is found
-and recorded as an error, and the others complete.
+Local workers: long-lived processes (spawned, so no simulator or BLAS state is inherited),
+each running one item at a time, sent over its own pipe. The parent knows which item every
+worker runs, so
 
-Ray: `ray.init(address)` (None: a local instance with `workers` CPUs); each episode is a task
-with one CPU, retried once if its worker dies, then recorded as an error.
+- a worker that dies (killed, or a crash in a simulator's C code) takes only its own item with
+  it: that item is run once more in a fresh worker (something outside may have killed it) and
+  recorded as `WorkerDied` if its worker dies again; Python's fault handler writes where the
+  crash happened, and the message says so;
+- an item that overruns its budget (`budget(item)` seconds of wall-clock time) is ended by the
+  parent: it reads the stage and simulated time that the episode publishes in shared memory
+  (`worker_progress`), asks the worker for its Python stack (SIGUSR1, answered by the fault
+  handler's C-level signal handler even inside a C call that holds the GIL), kills it and
+  yields `EpisodeTimeout`. Nothing a worker runs can block the sweep: a solver without an
+  iteration limit of its own (quadprog) is bounded by this;
+- a worker exits when the parent dies, however it dies (SIGKILL included): on Linux the kernel
+  sends it SIGKILL (prctl PR_SET_PDEATHSIG), elsewhere a watcher thread polls the parent's
+  pid; an idle worker also exits when its pipe closes. Workers ignore SIGINT, so Ctrl-C reaches
+  the parent only, which stops every worker before it returns.
+
+Ray: `ray.init(address)` (None: a local instance with `workers` CPUs); each item is a task
+with one CPU, retried once if its worker dies, then recorded as `WorkerDied`. At most one task
+per CPU is in flight, so that a task's budget is counted from its submission; a task past its
+budget is cancelled (`ray.cancel(force=True)`, which kills its worker) and recorded as
+`EpisodeTimeout` without a stage (the driver cannot see inside a running task). Ray's own
+processes share the fate of the driver that started them.
 """
 
 from __future__ import annotations
 
+import contextlib
+import ctypes
+import faulthandler
+import math
 import multiprocessing
 import os
+import re
+import shutil
+import signal
+import socket
+import sys
+import tempfile
+import threading
+import time
 from collections import deque
 from collections.abc import Callable, Iterable, Iterator
-from concurrent.futures import FIRST_COMPLETED, Future, ProcessPoolExecutor, wait
-from concurrent.futures.process import BrokenProcessPool
+from dataclasses import dataclass
+from multiprocessing.connection import Connection, wait
+from pathlib import Path
 from typing import Any, Protocol
 
 EXECUTORS = ("local", "ray")
+STACK_WAIT_S = 1.0  # how long a timed-out worker gets to write its stack before it is killed
+ADDRESS_TIMEOUT_S = 5.0  # how long `check_ray_address` waits for a TCP connection
 
 
 class WorkerDied(RuntimeError):
     """The process running an episode ended without returning (killed or crashed)."""
 
 
+class EpisodeTimeout(RuntimeError):
+    """An episode overran its wall-clock budget and was ended."""
+
+    def __init__(
+        self,
+        budget_s: float,
+        stage: str | None = None,
+        sim_time_s: float | None = None,
+        location: str | None = None,
+    ) -> None:
+        self.budget_s, self.stage, self.sim_time_s, self.location = (
+            budget_s,
+            stage,
+            sim_time_s,
+            location,
+        )
+        where = "in an unknown stage" if stage is None else f"in the {stage} stage"
+        if sim_time_s is not None:
+            where += f" at t = {sim_time_s:.3f} s"
+        if location:
+            where += f" ({location})"
+        super().__init__(f"no result within the wall-clock budget of {budget_s:.0f} s: {where}")
+
+
 class Executor(Protocol):
     def map_unordered(
-        self, fn: Callable[[Any], Any], items: Iterable[Any]
+        self,
+        fn: Callable[[Any], Any],
+        items: Iterable[Any],
+        budget: Callable[[Any], float] | None = None,
     ) -> Iterator[tuple[Any, Any]]: ...
 
     def close(self) -> None: ...
 
 
+# ------------------------------------------------------------------------------- workers
+
 _THREAD_VARIABLES = ("OMP_NUM_THREADS", "OPENBLAS_NUM_THREADS", "MKL_NUM_THREADS")
+_progress: Any = None  # this worker's shared [stage code, simulated time], if it is one
+
+
+def worker_progress() -> Any:
+    """The shared-memory progress slot of this worker process (None outside a worker): what
+    `bench.runner.run_episode` writes its stage and simulated time into."""
+    return _progress
+
+
+def progress_stage(code: float) -> str:
+    """The name of a stage code written by `bench.runner.run_episode`."""
+    from bench.runner import PROGRESS_STAGES
+
+    index = int(code)
+    return PROGRESS_STAGES[index] if 0 <= index < len(PROGRESS_STAGES) else "unknown"
+
+
+def _die_with_parent(parent_pid: int) -> None:
+    """Make this process end when its parent does (see the module docstring)."""
+    if sys.platform.startswith("linux"):
+        with contextlib.suppress(OSError, AttributeError):
+            libc = ctypes.CDLL(None, use_errno=True)
+            pr_set_pdeathsig = 1
+            libc.prctl(pr_set_pdeathsig, signal.SIGKILL, 0, 0, 0)
+
+    def watch() -> None:
+        while os.getppid() == parent_pid:
+            time.sleep(1.0)
+        os._exit(1)
+
+    if os.getppid() != parent_pid:  # the parent died before prctl took effect
+        os._exit(1)
+    threading.Thread(target=watch, name="parent-watch", daemon=True).start()
+
+
+def _worker_main(
+    fn: Callable[[Any], Any], conn: Connection, progress: Any, stack_path: str, parent_pid: int
+) -> None:
+    """A worker's loop: receive (task id, item), send (task id, ok, result or exception)."""
+    global _progress
+    _die_with_parent(parent_pid)
+    signal.signal(signal.SIGINT, signal.SIG_IGN)  # Ctrl-C is the parent's to handle
+    with contextlib.suppress(Exception):
+        import resource
+
+        resource.setrlimit(resource.RLIMIT_CORE, (0, 0))  # a crash leaves no core file
+    stack_file = open(stack_path, "w")  # noqa: SIM115 - open for the worker's lifetime
+    faulthandler.enable(stack_file)  # crashes (SIGSEGV, SIGABRT, ...) write their stack
+    faulthandler.register(signal.SIGUSR1, stack_file, all_threads=False)  # the parent asks
+    _progress = progress
+    conn.send(None)  # ready: imports done, so that they do not count against a budget
+    while True:
+        try:
+            message = conn.recv()
+        except (EOFError, OSError):
+            return
+        if message is None:
+            return
+        task_id, item = message
+        try:
+            reply = (task_id, True, fn(item))
+        except BaseException as exc:
+            reply = (task_id, False, exc)
+        try:
+            conn.send(reply)
+        except Exception as exc:  # a result or exception that does not pickle
+            conn.send((task_id, False, RuntimeError(f"{type(exc).__name__}: {exc}")))
+
+
+@dataclass
+class _Task:
+    item: Any
+    budget_s: float
+    attempts: int = 0
+
+
+class _Worker:
+    """One worker process, its pipe, its progress slot and its stack file."""
+
+    def __init__(self, context, fn: Callable[[Any], Any], folder: Path, number: int) -> None:
+        self.conn, child = context.Pipe()
+        self.progress = context.RawArray("d", 2)
+        self.stack_path = folder / f"worker-{number}.stack"
+        self.process = context.Process(
+            target=_worker_main,
+            args=(fn, child, self.progress, str(self.stack_path), os.getpid()),
+            name=f"centrobench-worker-{number}",
+            daemon=True,
+        )
+        self.process.start()
+        child.close()
+        self.ready = False  # the worker has said it is ready (its imports are done)
+        self.task: _Task | None = None
+        self.task_id = -1
+        self.started = 0.0
+
+    def send(self, task: _Task, task_id: int) -> None:
+        self.task, self.task_id, self.started = task, task_id, time.monotonic()
+        self.progress[0] = self.progress[1] = 0.0
+        task.attempts += 1
+        self.conn.send((task_id, task.item))
+
+    def stack(self) -> str:
+        with contextlib.suppress(OSError):
+            return self.stack_path.read_text()
+        return ""
+
+    def kill(self) -> None:
+        with contextlib.suppress(OSError):
+            self.conn.close()
+        if self.process.is_alive():
+            self.process.kill()
+        self.process.join(timeout=5)
+
+    def exit_description(self) -> str:
+        code = self.process.exitcode
+        if code is None:
+            return "did not exit"
+        if code < 0:
+            with contextlib.suppress(ValueError):
+                return f"was killed by {signal.Signals(-code).name}"
+            return f"was killed by signal {-code}"
+        return f"exited with status {code}"
+
+
+_FRAME = re.compile(r'File "(?P<file>[^"]+)", line (?P<line>\d+) in (?P<function>\S+)')
+
+
+def stack_location(text: str) -> str | None:
+    """Where a fault-handler stack was: its innermost frame in the project's own files (as
+    "folder/file.py:line in function"), else its innermost frame; None without frames."""
+    root = Path(__file__).resolve().parents[1]
+    innermost = None
+    for match in _FRAME.finditer(text):  # most recent call first
+        path = Path(match["file"]).resolve()
+        where = f"{path}:{match['line']} in {match['function']}"
+        innermost = innermost or where
+        if path.is_relative_to(root) and ".venv" not in path.relative_to(root).parts:
+            return f"{path.relative_to(root)}:{match['line']} in {match['function']}"
+    return innermost
 
 
 class LocalExecutor:
@@ -47,72 +248,176 @@ class LocalExecutor:
         if workers is not None and workers < 1:
             raise ValueError(f"workers must be >= 1, got {workers}")
         self.workers = workers or os.cpu_count() or 1
-        self._pool: ProcessPoolExecutor | None = None
+        self._pool: list[_Worker] = []
+        self._folder: Path | None = None
+        self._fn: Callable[[Any], Any] | None = None
+        self._started = 0  # workers started so far (numbers their stack files)
+        self._start_failures = 0  # workers that died before they were given work
 
-    def _new_pool(self) -> ProcessPoolExecutor:
+    def _start_worker(self, fn: Callable[[Any], Any] | None, number: int) -> _Worker:
         # One BLAS / OpenMP thread per worker: the pool already uses every core, and the
         # episodes' small matrix products lose more to oversubscribed threads than they gain
         # (measured: 5-10 % faster per episode with 2 workers on 2 cores). The workers inherit
         # this process's environment; a value the user set is kept.
         for variable in _THREAD_VARIABLES:
             os.environ.setdefault(variable, "1")
-        return ProcessPoolExecutor(self.workers, mp_context=multiprocessing.get_context("spawn"))
+        assert self._folder is not None
+        return _Worker(multiprocessing.get_context("spawn"), fn, self._folder, number)
 
     def map_unordered(
-        self, fn: Callable[[Any], Any], items: Iterable[Any]
+        self,
+        fn: Callable[[Any], Any],
+        items: Iterable[Any],
+        budget: Callable[[Any], float] | None = None,
     ) -> Iterator[tuple[Any, Any]]:
-        pending = deque(items)
-        suspects: deque = deque()  # in flight when a worker died: rerun one at a time
-        retried: set[int] = set()  # ids of suspects that already died once on their own
-        self._pool = self._new_pool()
+        self._fn = fn
+        self._started = self._start_failures = 0
+        self._folder = Path(tempfile.mkdtemp(prefix="centrobench-workers-"))
+        pending = deque(_Task(item, math.inf if budget is None else budget(item)) for item in items)
+        retry: deque[_Task] = deque()  # items whose worker died once: run again first
+        next_id = 0
         try:
-            in_flight: dict[Future, Any] = {}
-            while pending or suspects or in_flight:
-                limit = 1 if suspects else self.workers
-                source = suspects if suspects else pending
-                while source and len(in_flight) < limit:
-                    item = source.popleft()
-                    in_flight[self._pool.submit(fn, item)] = item
-                done, _ = wait(in_flight, return_when=FIRST_COMPLETED)
-                broken = []
-                for future in done:
-                    item = in_flight.pop(future)
-                    try:
-                        yield item, future.result()
-                    except BrokenProcessPool:
-                        broken.append(item)
-                    except Exception as exc:
-                        yield item, exc
-                if broken:
-                    broken.extend(in_flight.values())  # the rest of that pool's work died too
-                    in_flight.clear()
-                    self._pool.shutdown(wait=False, cancel_futures=True)
-                    self._pool = self._new_pool()
-                    if limit == 1 and id(broken[0]) in retried:  # died twice, alone
-                        yield broken[0], WorkerDied("the worker process died during this episode")
-                    elif limit == 1:
-                        retried.add(id(broken[0]))
-                        suspects.appendleft(broken[0])
-                    else:
-                        suspects.extend(broken)
+            while pending or retry or any(w.task is not None for w in self._pool):
+                # a worker for every slot; work for every ready, idle worker
+                for index in range(self.workers):
+                    if not (pending or retry):
+                        break
+                    if index >= len(self._pool):
+                        self._pool.append(self._new_worker())
+                    worker = self._pool[index]
+                    if worker.ready and worker.task is None:
+                        worker.send(retry.popleft() if retry else pending.popleft(), next_id)
+                        next_id += 1
+                ready = self._wait()
+                for index, worker in enumerate(self._pool):
+                    task = worker.task
+                    result = self._receive(worker) if worker.conn in ready else _NOTHING
+                    if task is not None and result is not _NOTHING:
+                        worker.task = None
+                        yield task.item, result
+                    elif worker.process.sentinel in ready or not worker.process.is_alive():
+                        died = self._replace_dead(index)
+                        if task is not None and task.attempts < 2:
+                            retry.append(task)  # something outside may have killed it
+                        elif task is not None:
+                            yield task.item, WorkerDied(f"{died}, twice")
+                    elif task is not None and time.monotonic() - worker.started > task.budget_s:
+                        yield task.item, self._end_overrun(index)
         finally:
             self.close()
 
+    def _new_worker(self) -> _Worker:
+        self._started += 1
+        return self._start_worker(self._fn, self._started)
+
+    def _wait(self) -> list[Any]:
+        """Wait (at most 1 s, or until the nearest budget runs out) for a result, a worker
+        that is ready or a worker that died; the ready pipes and sentinels."""
+        busy = [w for w in self._pool if w.task is not None]
+        watched = busy + [w for w in self._pool if not w.ready]
+        now = time.monotonic()
+        deadline = min((w.started + w.task.budget_s for w in busy), default=now + 1.0)  # type: ignore[union-attr]
+        timeout = min(max(deadline - now, 0.0), 1.0)
+        return wait([w.conn for w in watched] + [w.process.sentinel for w in watched], timeout)
+
+    @staticmethod
+    def _receive(worker: _Worker) -> Any:
+        """The result of the worker's current task, or _NOTHING (a ready message, a stale
+        result, or a pipe closed by a worker that died)."""
+        try:
+            message = worker.conn.recv()
+        except (EOFError, OSError):
+            return _NOTHING
+        if message is None:
+            worker.ready = True
+            return _NOTHING
+        return message[2] if message[0] == worker.task_id else _NOTHING
+
+    def _replace_dead(self, index: int) -> str:
+        """Replace the dead worker at `index`; what happened to it, as a sentence. Raises
+        RuntimeError when workers keep dying before they are given work (they cannot start)."""
+        worker = self._pool[index]
+        worker.process.join(timeout=5)
+        location = stack_location(worker.stack())
+        where = f" (at {location})" if location else ""
+        if worker.task is None:
+            self._start_failures += 1
+            if self._start_failures > 3:
+                raise RuntimeError(
+                    f"worker processes die at start-up: the last {worker.exit_description()}"
+                    + where
+                )
+        self._pool[index] = self._new_worker()
+        return f"the worker process {worker.exit_description()} during this episode{where}"
+
+    def _end_overrun(self, index: int) -> EpisodeTimeout:
+        """End the worker at `index`, whose task overran its budget, and replace it: the
+        stage and simulated time from its progress slot, the location from its stack."""
+        worker = self._pool[index]
+        stage = progress_stage(worker.progress[0])
+        sim_time = float(worker.progress[1])
+        with contextlib.suppress(ProcessLookupError):
+            os.kill(worker.process.pid, signal.SIGUSR1)  # type: ignore[arg-type]
+        location = self._await_stack(worker)
+        worker.kill()
+        self._pool[index] = self._new_worker()
+        assert worker.task is not None
+        return EpisodeTimeout(worker.task.budget_s, stage, sim_time, location)
+
+    @staticmethod
+    def _await_stack(worker: _Worker) -> str | None:
+        """The location in the stack that a worker writes on SIGUSR1 (waits STACK_WAIT_S)."""
+        end = time.monotonic() + STACK_WAIT_S
+        while time.monotonic() < end:
+            location = stack_location(worker.stack())
+            if location is not None:
+                return location
+            time.sleep(0.02)
+        return None
+
     def close(self) -> None:
-        if self._pool is not None:
-            _terminate(self._pool)
-            self._pool = None
+        """Stop every worker now (idle ones are told to exit, busy ones killed)."""
+        pool, self._pool = self._pool, []
+        for worker in pool:
+            if worker.task is None and worker.ready:
+                with contextlib.suppress(OSError, BrokenPipeError):
+                    worker.conn.send(None)
+        for worker in pool:
+            if worker.task is not None or not worker.ready:
+                worker.kill()
+        for worker in pool:
+            worker.process.join(timeout=2)
+            worker.kill()
+        if self._folder is not None:
+            shutil.rmtree(self._folder, ignore_errors=True)
+            self._folder = None
 
 
-def _terminate(pool: ProcessPoolExecutor) -> None:
-    """Stop a pool now, killing running workers (for Ctrl-C and for broken pools)."""
-    processes = list((getattr(pool, "_processes", None) or {}).values())
-    pool.shutdown(wait=False, cancel_futures=True)
-    for process in processes:
-        if process.is_alive():
-            process.terminate()
-    for process in processes:
-        process.join(timeout=5)
+_NOTHING = object()
+
+
+# ----------------------------------------------------------------------------------- Ray
+
+
+def check_ray_address(address: str | None, timeout_s: float = ADDRESS_TIMEOUT_S) -> None:
+    """ValueError unless `address` (HOST:PORT, ray://HOST:PORT, or "auto"/None) names a Ray
+    cluster that accepts a TCP connection within `timeout_s`: so that a wrong address fails
+    at once with one line, before anything is run or written (ray.init would retry for
+    minutes)."""
+    if address is None or address == "auto":
+        return  # None: a local instance is started; "auto": Ray itself finds a running one
+    text = address.removeprefix("ray://")
+    host, _, port = text.rpartition(":")
+    if not host or not port.isdigit() or not 0 < int(port) < 65536:
+        raise ValueError(f"--address must be HOST:PORT (or auto), got {address!r}")
+    try:
+        with socket.create_connection((host.strip("[]"), int(port)), timeout=timeout_s):
+            pass
+    except OSError as exc:
+        reason = "no answer" if isinstance(exc, TimeoutError) else exc.strerror or str(exc)
+        raise ValueError(
+            f"no Ray cluster at {address}: {reason} (waited at most {timeout_s:g} s)"
+        ) from None
 
 
 class RayExecutor:
@@ -123,6 +428,7 @@ class RayExecutor:
             raise ImportError(
                 "the Ray executor needs Ray: pip install -c constraints.txt -e '.[ray]'"
             ) from None
+        check_ray_address(address)
         self.ray = ray
         self._started = False
         if not ray.is_initialized():
@@ -131,28 +437,47 @@ class RayExecutor:
                 options["num_cpus"] = workers or os.cpu_count() or 1
             ray.init(address=address, **options)
             self._started = True
-        self.window = 4 * int(ray.cluster_resources().get("CPU", 1))
+        self.window = max(1, int(ray.cluster_resources().get("CPU", 1)))
 
     def map_unordered(
-        self, fn: Callable[[Any], Any], items: Iterable[Any]
+        self,
+        fn: Callable[[Any], Any],
+        items: Iterable[Any],
+        budget: Callable[[Any], float] | None = None,
     ) -> Iterator[tuple[Any, Any]]:
         ray = self.ray
         remote = ray.remote(num_cpus=1, max_retries=1)(fn)
         pending = deque(items)
-        in_flight: dict[Any, Any] = {}
-        while pending or in_flight:
-            while pending and len(in_flight) < self.window:
-                item = pending.popleft()
-                in_flight[remote.remote(item)] = item
-            ready, _ = ray.wait(list(in_flight), num_returns=1)
-            for reference in ready:
-                item = in_flight.pop(reference)
-                try:
-                    yield item, ray.get(reference)
-                except ray.exceptions.WorkerCrashedError as exc:
-                    yield item, WorkerDied(f"the Ray worker died during this episode: {exc}")
-                except Exception as exc:
-                    yield item, exc
+        in_flight: dict[Any, tuple[Any, float, float]] = {}  # ref: item, start, budget
+        try:
+            while pending or in_flight:
+                while pending and len(in_flight) < self.window:
+                    item = pending.popleft()
+                    allowed = math.inf if budget is None else budget(item)
+                    in_flight[remote.remote(item)] = (item, time.monotonic(), allowed)
+                now = time.monotonic()
+                deadline = min(start + allowed for _, start, allowed in in_flight.values())
+                ready, _ = ray.wait(
+                    list(in_flight), num_returns=1, timeout=min(max(deadline - now, 0.0), 1.0)
+                )
+                for reference in ready:
+                    item, _, _ = in_flight.pop(reference)
+                    try:
+                        yield item, ray.get(reference)
+                    except ray.exceptions.WorkerCrashedError as exc:
+                        yield item, WorkerDied(f"the Ray worker died during this episode: {exc}")
+                    except Exception as exc:
+                        yield item, exc
+                now = time.monotonic()
+                for reference, (item, start, allowed) in list(in_flight.items()):
+                    if now - start > allowed:
+                        ray.cancel(reference, force=True)
+                        del in_flight[reference]
+                        yield item, EpisodeTimeout(allowed)
+        finally:
+            for reference in in_flight:
+                with contextlib.suppress(Exception):
+                    ray.cancel(reference, force=True)
 
     def close(self) -> None:
         if self._started:

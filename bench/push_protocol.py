@@ -25,16 +25,23 @@ from typing import Any
 
 import numpy as np
 
+from bench.limits import MAX_EPISODE_SECONDS, MAX_PUSH_COUNT, MAX_PUSH_DV, SEED_LIMIT
+from bench.scenarios import WALK_STEPS
+
 PHASES = ("standing", "walking")
 PUSH_DURATION = 0.1  # [s] Ficht & Behnke's pushes; our scenarios' default
+_EPISODE = (
+    f"standing_push_time + {PUSH_DURATION:g} s + survival_time at most {MAX_EPISODE_SECONDS:g} s"
+)
 _FIELDS = {
     "phases": "a list of: standing, walking",
-    "dv": "a list of positive velocity changes [m/s]",
-    "count": "a positive integer (pushes per level)",
-    "seed": "an integer (seed of the push directions)",
-    "survival_time": "a positive number of seconds after the push",
-    "standing_push_time": "a non-negative number of seconds (push start while standing)",
-    "walking_push_step": "a positive integer (the single-support phase pushed mid-way)",
+    "dv": f"a list of positive velocity changes [m/s], at most {MAX_PUSH_DV:g}",
+    "count": f"a positive integer (pushes per level), at most {MAX_PUSH_COUNT}",
+    "seed": f"an integer in [0, {SEED_LIMIT - 1}] (seed of the push directions)",
+    "survival_time": f"a positive number of seconds after the push ({_EPISODE})",
+    "standing_push_time": f"a non-negative number of seconds, the push start ({_EPISODE})",
+    "walking_push_step": f"an integer in [1, {WALK_STEPS}] (the walk's single-support phase "
+    "pushed mid-way)",
 }
 
 
@@ -63,18 +70,29 @@ class PushProtocol:
         for value in dv:
             if isinstance(value, bool) or not isinstance(value, int | float):
                 raise ValueError(f"dv' must be {_FIELDS['dv']}, got {value!r}")
-            if not (np.isfinite(value) and value > 0):
+            if not 0 < value <= MAX_PUSH_DV:  # False for nan, inf and huge integers too
                 raise ValueError(f"dv' must be {_FIELDS['dv']}, got {value!r}")
         phases = data.get("phases", ["standing"])
         if isinstance(phases, str):
             phases = [phases]
-        if not isinstance(phases, list) or not phases or not set(phases) <= set(PHASES):
+        if (
+            not isinstance(phases, list)
+            or not phases
+            or not all(isinstance(phase, str) and phase in PHASES for phase in phases)
+        ):
             raise ValueError(f"phases' must be {_FIELDS['phases']}, got {phases!r}")
-        count = _integer("count", data.get("count", 20), minimum=1)
-        seed = _integer("seed", data.get("seed", 0), minimum=None)
-        step = _integer("walking_push_step", data.get("walking_push_step", 3), minimum=1)
+        count = _integer("count", data.get("count", 20), 1, MAX_PUSH_COUNT)
+        seed = _integer("seed", data.get("seed", 0), 0, SEED_LIMIT - 1)
+        step = _integer("walking_push_step", data.get("walking_push_step", 3), 1, WALK_STEPS)
         survival = _number("survival_time", data.get("survival_time", 3.0), strict=True)
         push_time = _number("standing_push_time", data.get("standing_push_time", 0.2))
+        if push_time + PUSH_DURATION + survival > MAX_EPISODE_SECONDS:
+            label = "survival_time" if "survival_time" in data else "standing_push_time"
+            raise ValueError(
+                f"{label}' makes the standing push episode {push_time + PUSH_DURATION + survival:g}"
+                f" s long; the longest is {MAX_EPISODE_SECONDS:g} s ({_EPISODE}), got "
+                f"standing_push_time {push_time:g}, survival_time {survival:g}"
+            )
         return cls(
             dv=tuple(float(v) for v in dv),
             phases=tuple(dict.fromkeys(phases)),
@@ -90,18 +108,18 @@ class PushProtocol:
         return np.random.default_rng(self.seed).uniform(0.0, 360.0, self.count)
 
 
-def _integer(label: str, value: Any, minimum: int | None) -> int:
-    if isinstance(value, bool) or not isinstance(value, int):
-        raise ValueError(f"{label}' must be {_FIELDS[label]}, got {value!r}")
-    if minimum is not None and value < minimum:
+def _integer(label: str, value: Any, minimum: int, maximum: int) -> int:
+    if isinstance(value, bool) or not isinstance(value, int) or not minimum <= value <= maximum:
         raise ValueError(f"{label}' must be {_FIELDS[label]}, got {value!r}")
     return value
 
 
 def _number(label: str, value: Any, strict: bool = False) -> float:
-    if isinstance(value, bool) or not isinstance(value, int | float) or not np.isfinite(value):
+    """A number of seconds in [0, MAX_EPISODE_SECONDS] ((0, ...] when `strict`); comparisons
+    only, so that nan, inf and integers too large for a float are refused, not raised on."""
+    if isinstance(value, bool) or not isinstance(value, int | float):
         raise ValueError(f"{label}' must be {_FIELDS[label]}, got {value!r}")
-    if value < 0 or (strict and value == 0):
+    if not ((value > 0 if strict else value >= 0) and value <= MAX_EPISODE_SECONDS):
         raise ValueError(f"{label}' must be {_FIELDS[label]}, got {value!r}")
     return float(value)
 

@@ -12,6 +12,7 @@ from __future__ import annotations
 import math
 import time
 import traceback
+from collections.abc import MutableSequence
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -31,6 +32,8 @@ from sims.base import make_simulator
 from stabilizers.base import stabilizer_spec
 
 STAGES = ("estimator", "planner", "stabilizer", "whole_body", "sim")
+# codes of the stage an episode is in, as written to a progress probe (see `run_episode`)
+PROGRESS_STAGES = ("setup", *STAGES)
 CONTROL_STAGES = STAGES[:-1]
 CENTROIDAL_STAGES = ("reference", "preview", "projection", "distribution")  # Table IV rows
 AXES = ("fx", "fy", "fz", "mx", "my", "mz")
@@ -168,8 +171,15 @@ def _latency(trace: pd.DataFrame) -> dict[str, dict[str, float]]:
     return result
 
 
-def run_episode(spec: EpisodeSpec) -> EpisodeResult:
-    """Run one episode; never raises for a controller or simulator failure."""
+def run_episode(spec: EpisodeSpec, progress: MutableSequence[float] | None = None) -> EpisodeResult:
+    """Run one episode; never raises for a controller or simulator failure.
+
+    `progress` (two floats, for example shared memory that a sweep's parent process reads
+    when an episode overruns its wall-clock budget): [0] the index in `PROGRESS_STAGES` of the
+    stage running now, [1] the simulated time [s] of the current period."""
+    if progress is None:
+        progress = [0.0, 0.0]
+    progress[0], progress[1] = 0.0, 0.0
     summary: dict = {
         "planner": spec.planner,
         "stabilizer": spec.stabilizer,
@@ -192,6 +202,7 @@ def run_episode(spec: EpisodeSpec) -> EpisodeResult:
         "zmp_margin_min_m": None,
         "solver_failures": 0,
         "error": None,
+        "error_stage": None,
     }
     trace = _Trace(0, ())
     sim = None
@@ -218,7 +229,9 @@ def run_episode(spec: EpisodeSpec) -> EpisodeResult:
         whole_body = WholeBodyLayer(model, dt)
         sim = make_simulator(spec.sim)
     except Exception as exc:  # bad spec: recorded, not raised
-        summary.update(status="error", error=f"setup: {type(exc).__name__}: {exc}")
+        summary.update(
+            status="error", error=f"setup: {type(exc).__name__}: {exc}", error_stage="setup"
+        )
         summary.update(provenance())
         return EpisodeResult(summary, trace.frame())
 
@@ -238,31 +251,37 @@ def run_episode(spec: EpisodeSpec) -> EpisodeResult:
         whole_body.reset(initial)
         for k in range(n_periods):
             t = k * dt
+            progress[1] = t
             while pending and pending[0].time < t + dt / 2:
                 push = pending.pop(0)
                 sim.push(push.link, np.array(push.impulse_world), push.duration)
             timings = {}
             stage = "estimator"
+            progress[0] = 1.0
             start = time.perf_counter_ns()
             state = estimator.estimate(sensors)
             timings["estimator"] = time.perf_counter_ns() - start
             _check_finite("estimator", state.base_position_world, state.com_position_world)
             stage = "planner"
+            progress[0] = 2.0
             start = time.perf_counter_ns()
             plan = planner.plan(t, state)
             timings["planner"] = time.perf_counter_ns() - start
             _check_plan(plan)
             stage = "stabilizer"
+            progress[0] = 3.0
             start = time.perf_counter_ns()
             targets = stabilizer.stabilize(t, plan, state)
             timings["stabilizer"] = time.perf_counter_ns() - start
             _check_targets(targets)
             stage = "whole_body"
+            progress[0] = 4.0
             start = time.perf_counter_ns()
             command = whole_body.command(targets)
             timings["whole_body"] = time.perf_counter_ns() - start
             _check_command(command)
             stage = "sim"
+            progress[0] = 5.0
             start = time.perf_counter_ns()
             sensors = sim.step(command)
             timings["sim"] = time.perf_counter_ns() - start
@@ -283,7 +302,7 @@ def run_episode(spec: EpisodeSpec) -> EpisodeResult:
         if frames:
             last = frames[-1]
             message += f" (at {last.filename.rsplit('/', 1)[-1]}:{last.lineno})"
-        summary.update(status="error", error=message)
+        summary.update(status="error", error=message, error_stage=stage)
     finally:
         sim.close()
     wall = time.perf_counter() - wall_start

@@ -23,6 +23,8 @@ import numpy as np
 from robots.model import RobotModel
 from robots.scene import Contact, ContactPhase, PushEvent, Scenario, Scene
 
+WALK_STEPS = 10  # steps of `walk` (and so the single-support phases `walk_push` can push in)
+
 
 @dataclass(frozen=True)
 class ScenarioSpec:
@@ -70,7 +72,7 @@ def stand_push(
 def walk(
     model: RobotModel,
     duration: float | None = None,
-    steps: int = 10,
+    steps: int = WALK_STEPS,
     stride: float = 0.25,
     step_period: float = 0.9,
     double_support_ratio: float = 0.15,

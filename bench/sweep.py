@@ -3,33 +3,44 @@ to the result store at once, show progress (tqdm: count, ETA, falls and errors).
 
 `run_one` is what a worker runs for one episode; it returns the summary row and the trace
 (when the episode keeps one). Failures are rows: the runner records controller and simulator
-failures itself, and an episode whose worker died or raised becomes a row with
-status "error" and the message.
+failures itself, an episode whose worker died or raised becomes a row with status "error" and
+the message, and one that overran its wall-clock budget (`SweepSpec.wall_budget_s` of its
+simulated duration) a row with status "timeout", the stage it was in and the simulated time it
+reached.
+
+What a sweep checks before it touches its result directory: the spec (by the caller), the
+executor and its address (a bounded TCP check), the directory's writability and the resume
+rules (`bench.dataset.ResultStore.prepare`). SIGTERM ends a sweep like Ctrl-C: the workers are
+stopped and every finished episode stays.
 """
 
 from __future__ import annotations
 
+import contextlib
+import functools
 import math
 import random
+import signal
 import sys
 import time
-from collections.abc import Callable
+from collections.abc import Callable, Iterator
 from dataclasses import asdict
 from pathlib import Path
 from typing import Any
 
 import pandas as pd
 
-from bench.dataset import ResultStore, error_row, read_episodes, summary_row
-from bench.executors import make_executor
+from bench.dataset import RETRIED_STATUSES, ResultStore, failure_row, read_episodes, summary_row
+from bench.executors import EpisodeTimeout, make_executor, worker_progress
 from bench.runner import run_episode
 from bench.sweep_spec import Episode, SweepSpec
 
 
 def run_one(episode: Episode) -> tuple[dict[str, Any], pd.DataFrame | None]:
-    """Run one episode in this process: (summary row, trace or None)."""
+    """Run one episode in this process: (summary row, trace or None). In a local worker the
+    episode publishes its stage and simulated time for the parent's timeout handling."""
     begin = time.perf_counter()
-    result = run_episode(episode.run)
+    result = run_episode(episode.run, progress=worker_progress())
     wall = time.perf_counter() - begin
     row = summary_row(episode.labels(), result.summary, result.trace, episode.run.duration, wall)
     return row, (result.trace if episode.keep_trace else None)
@@ -39,7 +50,50 @@ def _failure_row(episode: Episode, exc: BaseException) -> dict[str, Any]:
     run = asdict(episode.run)
     base = {k: run[k] for k in ("planner", "stabilizer", "sim", "scenario", "seed", "scale")}
     base.update(estimator=run["estimator"], friction=run["friction"])
-    return error_row(episode.labels(), base, f"{type(exc).__name__}: {exc}")
+    if isinstance(exc, EpisodeTimeout):
+        return failure_row(
+            episode.labels(),
+            base,
+            f"timeout: {exc}",
+            status="timeout",
+            stage=exc.stage,
+            duration=exc.sim_time_s,
+        )
+    return failure_row(episode.labels(), base, f"{type(exc).__name__}: {exc}")
+
+
+@functools.cache
+def simulated_duration(scenario: str, scale: float, duration: float | None) -> float:
+    """Simulated seconds of an episode: `duration`, or the scenario's own length."""
+    if duration is not None:
+        return duration
+    from bench.scenarios import make_scenario
+    from robots.humanoid import humanoid
+    from robots.model import RobotModel
+
+    return float(make_scenario(scenario, RobotModel(humanoid(scale))).duration)
+
+
+class SweepTerminated(KeyboardInterrupt):
+    """SIGTERM reached the sweep: handled like Ctrl-C (workers stopped, results kept)."""
+
+
+@contextlib.contextmanager
+def _terminate_as_interrupt() -> Iterator[None]:
+    """Within the block, SIGTERM raises `SweepTerminated` (main thread only)."""
+    try:
+        previous = signal.signal(signal.SIGTERM, _raise_terminated)
+    except ValueError:  # not the main thread: leave signals alone
+        yield
+        return
+    try:
+        yield
+    finally:
+        signal.signal(signal.SIGTERM, previous)
+
+
+def _raise_terminated(signum: int, frame: Any) -> None:
+    raise SweepTerminated("SIGTERM")
 
 
 def run_sweep(
@@ -52,39 +106,80 @@ def run_sweep(
     overwrite: bool = False,
     progress: bool = True,
     work: Callable[[Episode], tuple[dict[str, Any], pd.DataFrame | None]] = run_one,
+    retry_errors: bool = False,
+    on_start: Callable[[int, int], None] | None = None,
 ) -> pd.DataFrame:
-    """Run `spec`'s episodes (with `resume`: only those not yet in `out`) and return every
-    finished episode's row in `out`. KeyboardInterrupt stops the workers; the finished
-    episodes stay in `out`."""
+    """Run `spec`'s episodes (with `resume`: only those not yet in `out`; with
+    `retry_errors` also those that ended in an error or a timeout) and return every finished
+    episode's row in `out`. KeyboardInterrupt or SIGTERM stops the workers; the finished
+    episodes stay in `out`. Everything is checked before `out` is touched: ValueError for the
+    arguments and the executor, `ResultStoreError` for the directory. `on_start(total,
+    to_run)` is called once they have passed, before the first episode runs."""
+    if resume and overwrite:
+        raise ValueError("--resume and --overwrite exclude each other")
+    if retry_errors and not resume:
+        raise ValueError("--retry-errors goes with --resume")
     store = ResultStore(out)
+    store.check_usable()
     episodes = spec.episodes()
-    store.prepare(spec.to_dict(), spec.digest(), resume=resume, overwrite=overwrite)
-    finished = store.finished_ids() if resume else set()
-    todo = [e for e in episodes if e.episode_id not in finished]
-    random.Random(0).shuffle(todo)  # costs mixed over the run, so that the ETA holds
-    # ... except that the longest episodes go first (a stable sort keeps the shuffle among
-    # equals): a long walk started last would leave the other workers idle at the end.
-    todo.sort(key=_longest_first)
     runner = make_executor(executor, workers=workers, address=address)
-    bar = _progress(len(episodes), len(episodes) - len(todo), progress)
-    falls = errors = 0
+    bar = None
     try:
-        for episode, result in runner.map_unordered(work, todo):
-            if isinstance(result, BaseException):
-                row, trace = _failure_row(episode, result), None
-            else:
-                row, trace = result
-            store.write(row, trace)
-            falls += row["status"] == "fell"
-            errors += row["status"] == "error"
-            if bar is not None:
-                bar.set_postfix(fell=falls, errors=errors, refresh=False)
-                bar.update(1)
+        with store.locked(), _terminate_as_interrupt():
+            finished = store.prepare(
+                spec.to_dict(),
+                spec.digest(),
+                resume=resume,
+                overwrite=overwrite,
+                identity=spec.identity(),
+                retry=RETRIED_STATUSES if retry_errors else (),
+            )
+            try:
+                todo = [e for e in episodes if e.episode_id not in finished]
+                random.Random(0).shuffle(todo)  # costs mixed over the run: the ETA holds
+                # ... except that the longest episodes go first (a stable sort keeps the
+                # shuffle among equals): a long walk started last would leave workers idle.
+                todo.sort(key=_longest_first)
+                if on_start is not None:
+                    on_start(len(episodes), len(todo))
+                bar = _progress(len(episodes), len(episodes) - len(todo), progress)
+                _run_episodes(runner.map_unordered(work, todo, budget=_budget(spec)), store, bar)
+            except BaseException:
+                store.restore_aside()  # no-op once an episode was written
+                raise
+            store.discard_aside()
     finally:
         runner.close()
         if bar is not None:
             bar.close()
     return read_episodes(out)
+
+
+def _run_episodes(results: Iterator[tuple[Episode, Any]], store: ResultStore, bar) -> None:
+    """Write every result as it comes (a failure as its row) and advance the progress bar."""
+    falls = errors = 0
+    for episode, result in results:
+        if isinstance(result, BaseException):
+            row, trace = _failure_row(episode, result), None
+        else:
+            row, trace = result
+        store.write(row, trace)
+        store.discard_aside()  # the new sweep has started: the old results go
+        falls += row["status"] == "fell"
+        errors += row["status"] in RETRIED_STATUSES
+        if bar is not None:
+            bar.set_postfix(fell=falls, errors=errors, refresh=False)
+            bar.update(1)
+
+
+def _budget(spec: SweepSpec) -> Callable[[Episode], float]:
+    """An episode's wall-clock budget [s] (`SweepSpec.wall_budget_s`)."""
+
+    def budget(episode: Episode) -> float:
+        run = episode.run
+        return spec.wall_budget_s(simulated_duration(run.scenario, run.scale, run.duration))
+
+    return budget
 
 
 def _longest_first(episode: Episode) -> float:

@@ -12,6 +12,8 @@ A spec (every field but `controllers` and `sims` optional)::
     frictions = [0.6]           # Coulomb coefficient of every contact
     estimator = "ground_truth"
     traces = ["walk"]           # scenarios whose per-period traces are stored
+    timeout_base_s = 60.0       # wall-clock budget of an episode [s]: base + per_sim_s x its
+    timeout_per_sim_s = 10.0    # simulated duration; past it the episode ends as "timeout"
 
     [push]                      # the push-survival protocol (`bench.push_protocol`)
     phases = ["standing"]       # "standing", "walking" (mid single support)
@@ -20,7 +22,8 @@ A spec (every field but `controllers` and `sims` optional)::
     seed = 0                    # seed of the directions (the same for every controller)
 
 Validation happens before anything runs: a wrong spec raises `SpecError`, one message naming
-the field and what it accepts.
+the field and what it accepts. The numeric ranges (seeds, scales, frictions, durations, push
+levels and counts, the number of episodes) and the rule for `name` are in `bench.limits`.
 """
 
 from __future__ import annotations
@@ -33,7 +36,25 @@ from pathlib import Path
 from typing import Any
 
 from bench.controllers import CONTROLLERS, controller_spec
-from bench.push_protocol import PHASES, PushProtocol, push_episodes, walking_push_time
+from bench.limits import (
+    CONTROL_PERIOD_S,
+    FRICTION_MAX,
+    MAX_EPISODE_SECONDS,
+    MAX_EPISODES,
+    NAME_RULE,
+    SCALE_RANGE,
+    SEED_LIMIT,
+    TIMEOUT_BASE_MAX_S,
+    TIMEOUT_PER_SIM_MAX,
+    valid_name,
+)
+from bench.push_protocol import (
+    PHASES,
+    PUSH_DURATION,
+    PushProtocol,
+    push_episodes,
+    walking_push_time,
+)
 from bench.runner import EpisodeSpec
 from bench.scenarios import SCENARIOS
 from robots.estimators import ESTIMATORS
@@ -86,6 +107,10 @@ class SweepSpec:
     traces: tuple[str, ...] = ("walk",)
     push: PushProtocol | None = None
     duration: float | None = None  # [s] override for the plain scenarios
+    # wall-clock budget of an episode [s]: timeout_base_s + timeout_per_sim_s x simulated s.
+    # How a sweep runs, not what it measures: left out of the digest (a resume may change it).
+    timeout_base_s: float = 60.0
+    timeout_per_sim_s: float = 10.0
     extra: dict = field(default_factory=dict, compare=False, repr=False)
 
     def to_dict(self) -> dict[str, Any]:
@@ -95,8 +120,20 @@ class SweepSpec:
             data.pop("push")
         return data
 
+    def identity(self) -> dict[str, Any]:
+        """The fields that decide the episodes and their results (`to_dict` without the
+        execution settings `EXECUTION_FIELDS`)."""
+        data = self.to_dict()
+        for name in EXECUTION_FIELDS:
+            data.pop(name)
+        return data
+
     def digest(self) -> str:
-        return hashlib.sha1(json.dumps(self.to_dict(), sort_keys=True).encode()).hexdigest()[:12]
+        return hashlib.sha1(json.dumps(self.identity(), sort_keys=True).encode()).hexdigest()[:12]
+
+    def wall_budget_s(self, simulated_s: float) -> float:
+        """Wall-clock budget [s] of an episode of `simulated_s` simulated seconds."""
+        return self.timeout_base_s + self.timeout_per_sim_s * simulated_s
 
     def episodes(self) -> list[Episode]:
         """Every episode of the grid, in a fixed order, each with a stable id."""
@@ -145,30 +182,67 @@ def _episode(controller: str, run: EpisodeSpec, keep_trace: bool, **labels) -> E
 # ---------------------------------------------------------------- parsing and validation
 
 _TOP_FIELDS = {
-    "name": "a string",
+    "name": f"a string of {NAME_RULE}",
     "controllers": "a list of controller names",
     "sims": "a list of simulator names",
     "scenarios": "a list of scenario names",
-    "seeds": "a list of integers",
-    "scales": "a list of positive numbers",
-    "frictions": "a list of positive numbers",
+    "seeds": f"a list of integers in [0, {SEED_LIMIT - 1}]",
+    "scales": f"a list of length scales in [{SCALE_RANGE[0]:g}, {SCALE_RANGE[1]:g}]",
+    "frictions": f"a list of friction coefficients in (0, {FRICTION_MAX:g}]",
     "estimator": "an estimator name",
     "traces": "a list of scenario names",
-    "duration": "a positive number of seconds",
+    "duration": f"a number of seconds in [{CONTROL_PERIOD_S:g}, {MAX_EPISODE_SECONDS:g}]",
     "push": "a table (see bench.push_protocol)",
+    "timeout_base_s": "a positive number of seconds (wall-clock budget of every episode)",
+    "timeout_per_sim_s": "a positive number (wall-clock seconds per simulated second)",
 }
+# fields that say how a sweep runs, not what it measures (not part of its digest)
+EXECUTION_FIELDS = ("timeout_base_s", "timeout_per_sim_s")
 
 
 def load_spec(path: str | Path) -> SweepSpec:
     """Read and validate a TOML sweep spec."""
-    path = Path(path)
+    return spec_from_mapping(read_spec_file(path))
+
+
+MAX_SPEC_BYTES = 1_000_000  # a spec is a few lines; a larger file is something else
+
+
+def read_spec_file(path: str | Path) -> dict[str, Any]:
+    """The fields of the TOML sweep spec file `path`, not yet validated. SpecError, one line
+    naming the file, when it is missing, no regular file, too large, not UTF-8 or not TOML."""
     try:
-        data = tomllib.loads(path.read_text())
-    except FileNotFoundError:
-        raise SpecError(f"sweep spec {path} does not exist") from None
+        path = Path(path)
+        if not path.exists():
+            raise SpecError(f"sweep spec {path} does not exist")
+        if path.is_dir():
+            raise SpecError(f"sweep spec {path} is a directory; give a TOML file")
+        if not path.is_file():
+            raise SpecError(f"sweep spec {path} is not a regular file; give a TOML file")
+        if path.stat().st_size > MAX_SPEC_BYTES:
+            raise SpecError(
+                f"sweep spec {path} has {path.stat().st_size} bytes, more than a spec's "
+                f"{MAX_SPEC_BYTES}; give a TOML sweep spec"
+            )
+        raw = path.read_bytes()
+    except SpecError:
+        raise
+    except OSError as exc:
+        raise SpecError(f"sweep spec {path} cannot be read: {exc.strerror or exc}") from None
+    except ValueError as exc:  # e.g. a NUL character in the path
+        raise SpecError(f"sweep spec path {str(path)!r} is not valid: {exc}") from None
+    try:
+        text = raw.decode("utf-8")
+    except UnicodeDecodeError as exc:
+        raise SpecError(
+            f"sweep spec {path} is not UTF-8 text (byte 0x{raw[exc.start]:02x} at offset "
+            f"{exc.start}); give a TOML file"
+        ) from None
+    try:
+        return tomllib.loads(text)
     except tomllib.TOMLDecodeError as exc:
-        raise SpecError(f"sweep spec {path} is not valid TOML: {exc}") from None
-    return spec_from_mapping(data)
+        message = " ".join(str(exc).split())
+        raise SpecError(f"sweep spec {path} is not valid TOML: {message}") from None
 
 
 def spec_from_mapping(data: dict[str, Any]) -> SweepSpec:
@@ -192,25 +266,40 @@ def spec_from_mapping(data: dict[str, Any]) -> SweepSpec:
     sims = _names("sims", data["sims"], list(SIMULATORS))
     scenarios = _names("scenarios", data.get("scenarios", []), list(SCENARIOS), allow_all=False)
     traces = _names("traces", data.get("traces", ["walk"]), list(SCENARIOS), allow_all=False)
-    seeds = tuple(_integer(f"seeds[{k}]", v) for k, v in enumerate(_list("seeds", data, [0])))
-    scales = tuple(_positive(f"scales[{k}]", v) for k, v in enumerate(_list("scales", data, [1.0])))
+    seeds = tuple(
+        _integer(f"seeds[{k}]", v, 0, SEED_LIMIT - 1)
+        for k, v in enumerate(_list("seeds", data, [0]))
+    )
+    scales = tuple(
+        _in_range(f"scales[{k}]", v, *SCALE_RANGE)
+        for k, v in enumerate(_list("scales", data, [1.0]))
+    )
     frictions = tuple(
-        _positive(f"frictions[{k}]", v) for k, v in enumerate(_list("frictions", data, [0.6]))
+        _in_range(f"frictions[{k}]", v, 0.0, FRICTION_MAX, strict=True)
+        for k, v in enumerate(_list("frictions", data, [0.6]))
     )
     for label, values in (("seeds", seeds), ("scales", scales), ("frictions", frictions)):
         if not values:
             raise SpecError(f"sweep spec field {label!r} must not be empty")
     estimator = data.get("estimator", "ground_truth")
-    if estimator not in ESTIMATORS:
+    if not isinstance(estimator, str) or estimator not in ESTIMATORS:
         raise SpecError(
             f"sweep spec field 'estimator': unknown {estimator!r}; valid: {', '.join(ESTIMATORS)}"
         )
     name = data.get("name", "sweep")
-    if not isinstance(name, str):
-        raise SpecError(f"sweep spec field 'name' must be a string, got {type(name).__name__}")
+    if not isinstance(name, str) or not valid_name(name):
+        raise SpecError(f"sweep spec field 'name' must be {NAME_RULE}, got {name!r}")
     duration = data.get("duration")
     if duration is not None:
-        duration = _positive("duration", duration)
+        duration = _in_range("duration", duration, CONTROL_PERIOD_S, MAX_EPISODE_SECONDS, unit="s")
+    timeouts = {
+        label: _in_range(label, data[label], 0.0, maximum, strict=True, unit=unit)
+        for label, maximum, unit in (
+            ("timeout_base_s", TIMEOUT_BASE_MAX_S, "s"),
+            ("timeout_per_sim_s", TIMEOUT_PER_SIM_MAX, "s per simulated s"),
+        )
+        if label in data
+    }
     push = None
     if "push" in data:
         if not isinstance(data["push"], dict):
@@ -224,6 +313,17 @@ def spec_from_mapping(data: dict[str, Any]) -> SweepSpec:
             "sweep spec: no episodes; give 'scenarios' (one of: "
             f"{', '.join(SCENARIOS)}) or a 'push' table (phases: {', '.join(PHASES)})"
         )
+    # the grid's size from its axes, before any episode is listed
+    per_point = len(scenarios) + (len(push.phases) * len(push.dv) * push.count if push else 0)
+    total = len(controllers) * len(sims) * len(scales) * len(frictions) * len(seeds) * per_point
+    if total > MAX_EPISODES:
+        raise SpecError(
+            f"sweep spec: {total} episodes (controllers x sims x scales x frictions x seeds x "
+            f"(scenarios + push phases x dv x count)), more than the {MAX_EPISODES} a sweep may "
+            "have; split it into several sweeps"
+        )
+    if push is not None and "walking" in push.phases:
+        _check_walking_push(push, scales)
     return SweepSpec(
         controllers=controllers,
         sims=sims,
@@ -236,6 +336,7 @@ def spec_from_mapping(data: dict[str, Any]) -> SweepSpec:
         traces=traces,
         push=push,
         duration=duration,
+        **timeouts,
     )
 
 
@@ -282,15 +383,43 @@ def _names(
     return tuple(value)
 
 
-def _integer(label: str, value: Any) -> int:
-    if isinstance(value, bool) or not isinstance(value, int):
-        raise SpecError(f"sweep spec field {label!r} must be an integer, got {value!r}")
+def _integer(label: str, value: Any, minimum: int, maximum: int) -> int:
+    if isinstance(value, bool) or not isinstance(value, int) or not minimum <= value <= maximum:
+        raise SpecError(
+            f"sweep spec field {label!r} must be an integer in [{minimum}, {maximum}], "
+            f"got {value!r}"
+        )
     return value
 
 
-def _positive(label: str, value: Any) -> float:
-    if isinstance(value, bool) or not isinstance(value, int | float) or not value > 0:
-        raise SpecError(f"sweep spec field {label!r} must be a positive number, got {value!r}")
-    if value != value or value == float("inf"):
-        raise SpecError(f"sweep spec field {label!r} must be finite, got {value!r}")
+def _in_range(
+    label: str, value: Any, minimum: float, maximum: float, strict: bool = False, unit: str = ""
+) -> float:
+    """A finite number in [minimum, maximum] ((minimum, maximum] when `strict`); comparisons
+    only, so that nan, inf and integers too large for a float are refused, not raised on."""
+    number = isinstance(value, int | float) and not isinstance(value, bool)
+    if not (
+        number
+        and (value > minimum if strict else value >= minimum)
+        and value <= maximum  # False for nan
+    ):
+        raise SpecError(
+            f"sweep spec field {label!r} must be a number in {'(' if strict else '['}"
+            f"{minimum:g}, {maximum:g}]{' ' + unit if unit else ''}, got {value!r}"
+        )
     return float(value)
+
+
+def _check_walking_push(push: PushProtocol, scales: tuple[float, ...]) -> None:
+    """A walking push's episode (the walk up to mid single support `walking_push_step`, the
+    push, `survival_time`) must fit MAX_EPISODE_SECONDS at every scale (the walk's steps
+    last longer on a larger robot)."""
+    for scale in scales:
+        end = walking_push_time(scale, push.walking_push_step) + PUSH_DURATION + push.survival_time
+        if end > MAX_EPISODE_SECONDS:
+            raise SpecError(
+                f"sweep spec field 'push.survival_time': a walking push at scale {scale:g} "
+                f"starts at {end - PUSH_DURATION - push.survival_time:.2f} s, so its episode "
+                f"would last {end:.1f} s, more than {MAX_EPISODE_SECONDS:g} s; got "
+                f"survival_time {push.survival_time:g}"
+            )

@@ -17,6 +17,7 @@ active set starts from the unconstrained optimum, which is close: 0-4 faces are 
 
 from __future__ import annotations
 
+import functools
 from typing import Protocol
 
 import numpy as np
@@ -52,6 +53,8 @@ FORMULATIONS = (
     *(f"face:{s}" for s in FACE_SOLVERS),
 )
 DEFAULT_FORMULATION = "face:quadprog"
+# [N or N m] how far face:quadprog may violate a unit-norm cone face (`FaceForm._slack`)
+ANTI_CYCLING_SLACK = 1e-9
 
 # PIQP at 1e-6 / 1e-7 rather than 1e-8 / 1e-9: 1-2 fewer interior-point iterations of 6-14
 # (walk update 5.3 -> 4.7 ms median, `make benchmark`, 2026-11-23) for a planned wrench that
@@ -356,7 +359,10 @@ class FaceForm:
 
     `face:quadprog` calls quadprog (Goldfarb-Idnani dual active set) directly with the inverse
     Cholesky factor of the constant Hessian, computed once (`factorized=True`); `face:daqp`
-    goes through qpsolvers and factorises every period.
+    goes through qpsolvers and factorises every period. The constraint rows are scaled to unit
+    norm (the same cone). quadprog has no iteration or time limit of its own: in a sweep, the
+    episode's wall-clock budget bounds it (`bench.executors`); DAQP has both, at 4.4x the
+    solve time on our walks (1.56 against 0.35 ms median with a kept `daqp.Model`).
     """
 
     needs_maps = False  # the faces replace the ridges' W_k
@@ -386,6 +392,16 @@ class FaceForm:
         np.negative(rows, out=rows)
         buffer.put(flat, rows)
         return buffer
+
+    @staticmethod
+    @functools.cache
+    def _slack(m: int) -> np.ndarray:
+        """quadprog's anti-cycling perturbation: row i of the unit-norm constraints may be
+        violated by ANTI_CYCLING_SLACK (1 + i / m) [N or N m], distinct for every row. At a
+        degenerate optimum (friction 0.01: many more faces active than the 6 dimensions of
+        a sample) the Goldfarb-Idnani active set cycled for ever on exact ties; distinct
+        slacks break them (the QP solved in 51 iterations)."""
+        return ANTI_CYCLING_SLACK * (1.0 + np.arange(m) / m)
 
     def faces_of(self, generators: np.ndarray) -> np.ndarray:
         """F of cone(G) (moments about the origin), kept per generator array: the planner
@@ -417,12 +433,16 @@ class FaceForm:
         about = np.repeat(np.asarray(problem.points, dtype=float), sizes, axis=0)
         rows = stacked.copy()
         rows[:, :3] += cross(stacked[:, 3:], about)  # F T^-1: a . (c x f) = f . (a x c)
+        # unit rows: the same cone (each row <= 0 scaled by a positive number), but a
+        # well-scaled active set; with rows of norms 0.98-2.7 quadprog's dual active set
+        # cycled for ever at friction 0.01 (tests/planners/test_linear_mpc.py)
+        rows /= np.sqrt(np.einsum("ij,ij->i", rows, rows))[:, None]
         negated = self._negated_constraint(sizes, rows)  # -(F T^-1), block-diagonal (m, 6N)
         gradient = input_gradient(self.model, problem)
-        if self.solver == "quadprog":  # min 1/2 U'HU - a'U  s.t.  C'U >= 0, with C = -(F T^-1)'
+        if self.solver == "quadprog":  # min 1/2 U'HU - a'U  s.t.  C'U >= -slack
             try:
                 solution = quadprog.solve_qp(
-                    self._inverse_factor, -gradient, negated.T, np.zeros(len(rows)), 0, True
+                    self._inverse_factor, -gradient, negated.T, -self._slack(len(rows)), 0, True
                 )[0]
             except ValueError as exc:  # "constraints are inconsistent, no solution"
                 raise MpcSolverError(f"{self.name}: {exc}") from exc

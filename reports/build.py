@@ -18,16 +18,49 @@ from reports import plots, tables
 TITLE = "centrobench report"
 
 
-def read_results(root: str | Path) -> tuple[pd.DataFrame, dict | None]:
-    """(episode rows, sweep.json record or None) of a result directory."""
+REQUIRED_COLUMNS = ("episode_id", "controller", "sim", "scenario", "status")
+
+
+def read_results(root: str | Path) -> tuple[pd.DataFrame, dict | None, list[str]]:
+    """(episode rows, sweep.json record or None, notes on the files left out) of a result
+    directory. A file that is not readable Parquet or has no episode columns is left out
+    with a note, and so is a sweep.json that is not JSON; the report is built from the rest."""
     root = Path(root)
     folder = root / "episodes"
-    if not folder.exists() or not any(folder.glob("*.parquet")):
-        raise FileNotFoundError(f"no episode results under {folder}")
-    episodes = pq.read_table(folder).to_pandas().sort_values("episode_id", ignore_index=True)
+    paths = sorted(folder.glob("*.parquet")) if folder.exists() else []
+    frames, notes = [], []
+    for path in paths:
+        try:
+            frame = pq.read_table(path).to_pandas()
+        except Exception as exc:  # any unreadable file is left out, with a note
+            notes.append(f"{path.name}: unreadable ({' '.join(str(exc).split())[:120]})")
+            continue
+        missing = [c for c in REQUIRED_COLUMNS if c not in frame.columns]
+        if missing:
+            notes.append(f"{path.name}: not an episode row (no {', '.join(missing)})")
+            continue
+        frames.append(frame)
+    if not frames:
+        raise FileNotFoundError(f"no readable episode results under {folder}")
+    episodes = pd.concat(frames, ignore_index=True).sort_values("episode_id", ignore_index=True)
+    record = None
     record_path = root / "sweep.json"
-    record = json.loads(record_path.read_text()) if record_path.exists() else None
-    return episodes, record
+    if record_path.exists():
+        try:
+            record = json.loads(record_path.read_text())
+        except (OSError, UnicodeDecodeError, json.JSONDecodeError) as exc:
+            notes.append(f"sweep.json: unreadable ({exc})")
+    if not isinstance(record, dict) or not isinstance(record.get("spec"), dict):
+        record = None
+    return episodes, record, notes
+
+
+def survival_time_s(record: dict | None) -> float:
+    """The spec's survival window after a push [s] (the protocol's default, 3 s, when the
+    record does not say)."""
+    push = (record or {}).get("spec", {}).get("push") or {}
+    value = push.get("survival_time", 3.0)
+    return float(value) if isinstance(value, int | float) else 3.0
 
 
 def header(episodes: pd.DataFrame, record: dict | None) -> dict[str, str]:
@@ -48,13 +81,14 @@ def header(episodes: pd.DataFrame, record: dict | None) -> dict[str, str]:
 
 
 def sections(
-    episodes: pd.DataFrame, benchmark: dict | None = None
+    episodes: pd.DataFrame, benchmark: dict | None = None, survival_time: float = 3.0
 ) -> list[tuple[str, str, pd.DataFrame]]:
-    """(title, explanation, table) in report order."""
+    """(title, explanation, table) in report order; `survival_time` [s] is the spec's."""
     result = [
         (
             "Episodes by status",
-            "Every episode of the sweep, by how it ended (ok, fell, error).",
+            "Every episode of the sweep, by how it ended (ok, fell, error: the controller or "
+            "the simulator failed, timeout: past its wall-clock budget).",
             tables.status_table(episodes),
         ),
         (
@@ -77,10 +111,13 @@ def sections(
             result.append(
                 (
                     f"Push survival, {phase} (Ficht & Behnke Table 2)",
-                    "Pushes survived out of those applied per level: a push to the torso for "
+                    "Pushes survived out of those judged per level: a push to the torso for "
                     "0.1 s from a direction drawn uniformly on the circle (the same directions "
-                    "for every controller); survived = no fall within 3 s after it. Levels are "
-                    "velocity changes dv = J / m, with the impulse J for this robot.",
+                    f"for every controller); survived = no fall within {survival_time:g} s "
+                    "after it. Levels are velocity changes dv = J / m, with the impulse J for "
+                    "this robot. Only episodes that ended ok or fell are judged; those that "
+                    "ended in an error or a timeout are counted under 'not judged' (rerun them "
+                    "with `centrobench sweep ... --resume --retry-errors`).",
                     table,
                 )
             )
@@ -115,24 +152,47 @@ def build_report(
     results: str | Path, out: str | Path, benchmark_json: str | Path | None = None
 ) -> list[Path]:
     """Write report.md, report.html and the figures into `out`; returns their paths."""
-    episodes, record = read_results(results)
-    out = Path(out)
-    out.mkdir(parents=True, exist_ok=True)
     benchmark = None
-    if benchmark_json is not None:
+    if benchmark_json is not None:  # first: a bad file fails before anything is read or made
         path = Path(benchmark_json)
         if not path.exists():
             raise FileNotFoundError(f"benchmark file {path} does not exist")
-        benchmark = json.loads(path.read_text())
+        try:
+            benchmark = json.loads(path.read_bytes())
+        except (OSError, ValueError, RecursionError) as exc:  # a folder; not UTF-8 or JSON
+            reason = " ".join(str(exc.strerror if isinstance(exc, OSError) else exc).split())
+            raise ValueError(f"benchmark file {path} is not readable JSON: {reason}") from None
+        entries = benchmark.get("benchmarks") if isinstance(benchmark, dict) else None
+        stats = ("median", "mean", "stddev", "min", "rounds")
+        if not isinstance(entries, list) or not all(
+            isinstance(entry, dict)
+            and "name" in entry
+            and isinstance(entry.get("stats"), dict)
+            and all(isinstance(entry["stats"].get(key), int | float) for key in stats)
+            for entry in entries
+        ):
+            raise ValueError(
+                f"benchmark file {path} is not pytest-benchmark JSON: an object with a "
+                f"'benchmarks' list whose entries have a name and stats {', '.join(stats)}; "
+                "got "
+                + (
+                    "an object without that"
+                    if isinstance(benchmark, dict)
+                    else f"a JSON {type(benchmark).__name__.replace('NoneType', 'null')}"
+                )
+            )
+    episodes, record, notes = read_results(results)
+    out = Path(out)
+    out.mkdir(parents=True, exist_ok=True)
     info = header(episodes, record)
-    parts = sections(episodes, benchmark)
+    parts = sections(episodes, benchmark, survival_time_s(record))
     figures: list[tuple[str, Path]] = []
     rates = tables.survival_rates(episodes, "standing")
     if len(rates):
         figures.append(
             ("Standing push survival against dv", plots.survival_plot(rates, out / "survival.png"))
         )
-    walk_traces = _walk_traces(Path(results), episodes)
+    walk_traces = _walk_traces(Path(results), episodes, notes)
     if walk_traces:
         figures.append(
             (
@@ -140,6 +200,8 @@ def build_report(
                 plots.walk_plot(walk_traces, out / "walk.png"),
             )
         )
+    if notes:
+        info["files left out"] = "; ".join(notes)
     md = out / "report.md"
     md.write_text(_markdown(info, parts, figures))
     page = out / "report.html"
@@ -147,18 +209,27 @@ def build_report(
     return [md, page, *(path for _, path in figures)]
 
 
-def _walk_traces(root: Path, episodes: pd.DataFrame) -> dict[str, pd.DataFrame]:
-    """One walk trace per controller (MuJoCo's when there is one)."""
+def _walk_traces(root: Path, episodes: pd.DataFrame, notes: list[str]) -> dict[str, pd.DataFrame]:
+    """One walk trace per controller (MuJoCo's when there is one); a trace that cannot be
+    read or lacks the plotted columns is skipped with a note in `notes`."""
     walks = tables.walks(episodes)
     walks = walks[walks["has_trace"].fillna(False).astype(bool)]
     result = {}
     for controller, group in walks.sort_values(["controller", "sim"]).groupby("controller"):
         row = group.iloc[0]
         path = root / "traces" / f"{row['episode_id']}.parquet"
-        if path.exists():
-            result[f"{controller} ({row['sim']}, {row['status']})"] = pq.read_table(
-                path
-            ).to_pandas()
+        if not path.exists():
+            continue
+        try:
+            trace = pq.read_table(path).to_pandas()
+        except Exception as exc:  # a corrupt trace: no plot, still a report
+            notes.append(f"traces/{path.name}: unreadable, not plotted ({type(exc).__name__})")
+            continue
+        missing = [c for c in plots.WALK_COLUMNS if c not in trace.columns]
+        if missing:
+            notes.append(f"traces/{path.name}: no {missing[0]} column, not plotted")
+            continue
+        result[f"{controller} ({row['sim']}, {row['status']})"] = trace
     return result
 
 

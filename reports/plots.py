@@ -11,6 +11,16 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt
 import pandas as pd
 
+# the trace columns `walk_plot` draws
+WALK_COLUMNS = (
+    "time",
+    *(
+        f"{quantity}_{axis}"
+        for axis in ("x", "y")
+        for quantity in ("zmp_planned", "zmp_actual", "com_ref", "com_planned", "com_actual")
+    ),
+)
+
 
 def survival_plot(rates: pd.DataFrame, path: str | Path) -> Path:
     """Survival rate against the velocity change dv [m/s] (Ficht & Behnke Table 2 as a plot),
@@ -21,7 +31,7 @@ def survival_plot(rates: pd.DataFrame, path: str | Path) -> Path:
     for (controller, sim), group in rates.groupby(["controller", "sim"], sort=True):
         axis.plot(
             group["push_dv_mps"],
-            group["survived"] / group["pushes"],
+            group["rate"],
             styles.get(sim, "-x"),
             label=f"{controller} ({sim})",
         )

@@ -59,35 +59,52 @@ def level_label(dv: float, impulse: float) -> str:
     return f"{dv:g} m/s ({impulse:.1f} N s)"
 
 
+JUDGED = ("ok", "fell")  # statuses that say whether a push was survived
+
+
 def survival_table(episodes: pd.DataFrame, phase: str = "standing") -> pd.DataFrame:
     """Ficht & Behnke Table 2: rows controller x simulator, a column per level (dv, and the
-    impulse in N s for this robot), cells "survived/pushes"."""
+    impulse in N s for this robot), cells "survived/pushes" over the episodes that ended "ok"
+    or "fell"; the episodes that ended in an error or a timeout say nothing about the
+    controller and are counted in their own column, "not judged"."""
     rows = pushes(episodes, phase)
     if rows.empty:
         return pd.DataFrame(columns=KEYS)
+    rates = survival_rates(episodes, phase)
     impulses = rows.groupby("push_dv_mps")["push_impulse_Ns"].mean()
-    counts = (
-        rows.assign(survived=rows["survived"].fillna(False).astype(bool))
-        .groupby([*KEYS, "push_dv_mps"], sort=True)["survived"]
-        .agg(["sum", "count"])
+    cells = (
+        rates.assign(cell=rates["survived"].astype(str) + "/" + rates["pushes"].astype(str))
+        .set_index([*KEYS, "push_dv_mps"])["cell"]
+        .unstack()
     )
-    cells = (counts["sum"].astype(int).astype(str) + "/" + counts["count"].astype(str)).unstack()
     cells.columns = [level_label(dv, impulses[dv]) for dv in cells.columns]
+    cells = cells.fillna("0/0")
+    not_judged = (
+        rows[~rows["status"].isin(JUDGED)]
+        .groupby(KEYS)["status"]
+        .agg(lambda s: ", ".join(f"{n} {k}" for k, n in sorted(s.value_counts().items())))
+    )
+    cells["not judged"] = [not_judged.get(key, "") for key in cells.index]
     return cells.reset_index()
 
 
 def survival_rates(episodes: pd.DataFrame, phase: str = "standing") -> pd.DataFrame:
-    """Long form of the survival table: controller, sim, dv, impulse, survived, pushes, rate."""
+    """Long form of the survival table over the judged episodes ("ok" or "fell"):
+    controller, sim, dv, impulse, survived, pushes, rate, and `not_judged` (error, timeout)."""
     rows = pushes(episodes, phase)
-    grouped = rows.assign(survived=rows["survived"].fillna(False).astype(bool)).groupby(
-        [*KEYS, "push_dv_mps"], sort=True
-    )
+    judged = rows["status"].isin(JUDGED)
+    grouped = rows.assign(
+        survived=rows["survived"].fillna(False).astype(bool) & judged,
+        judged=judged,
+        not_judged=~judged,
+    ).groupby([*KEYS, "push_dv_mps"], sort=True)
     table = grouped.agg(
         impulse_Ns=("push_impulse_Ns", "mean"),
         survived=("survived", "sum"),
-        pushes=("survived", "count"),
+        pushes=("judged", "sum"),
+        not_judged=("not_judged", "sum"),
     ).reset_index()
-    table["rate"] = table["survived"] / table["pushes"]
+    table["rate"] = table["survived"] / table["pushes"].where(table["pushes"] > 0)
     return table
 
 

@@ -17,10 +17,35 @@ from robots.build import generate
 from robots.scene import Scene
 from robots.spec import RobotDescription
 from robots.types import MassProperties, RobotState, Sensors
-from sims.base import SimulatorBase, limb_wrenches, quaternion_to_matrix
+from sims.base import SimulatorBase, SimulatorError, limb_wrenches, quaternion_to_matrix
 
 CONTACT_SOLREF = (0.005, 1.0)
 SCENE_CONTYPE, SCENE_CONAFFINITY = 0, 1
+
+# MuJoCo's warnings that mean the physics can no longer be trusted. On a bad acceleration,
+# position or velocity MuJoCo resets the state to the model's default pose and carries on
+# (the robot then lies on the ground and would count as fallen); a full contact or constraint
+# buffer drops contacts. Each is checked every control period and ends the episode as an
+# error (`SimulatorError`) with MuJoCo's message.
+UNSTABLE_WARNINGS = (
+    mujoco.mjtWarning.mjWARN_BADQACC,
+    mujoco.mjtWarning.mjWARN_BADQVEL,
+    mujoco.mjtWarning.mjWARN_BADQPOS,
+    mujoco.mjtWarning.mjWARN_BADCTRL,
+    mujoco.mjtWarning.mjWARN_CONTACTFULL,
+    mujoco.mjtWarning.mjWARN_CNSTRFULL,
+)
+_UNSTABLE_INDEX = [int(w) for w in UNSTABLE_WARNINGS]
+_last_warning: list[str] = [""]
+
+
+def _keep_warning(message: str) -> None:
+    """MuJoCo's warning handler: keep the text for the error message instead of printing it
+    on stdout (where it would break `centrobench run --json`)."""
+    _last_warning[0] = " ".join(message.split())
+
+
+mujoco.set_mju_user_warning(_keep_warning)
 
 
 def build_model(robot: RobotDescription, scene: Scene) -> mujoco.MjModel:
@@ -64,6 +89,7 @@ class MujocoSimulator(SimulatorBase):
     def _load(self, robot: RobotDescription, scene: Scene) -> None:
         m = self.model = build_model(robot, scene)
         self.data = mujoco.MjData(m)
+        _last_warning[0] = ""
 
         def jid(name: str) -> int:
             return mujoco.mj_name2id(m, mujoco.mjtObj.mjOBJ_JOINT, name)
@@ -184,8 +210,17 @@ class MujocoSimulator(SimulatorBase):
     def _links_touching_scene(self) -> set[str]:
         return {self._body_name[b] for b in self._contacts()[0].tolist()}
 
+    def _check_warnings(self) -> None:
+        """SimulatorError when MuJoCo has raised an instability warning (`UNSTABLE_WARNINGS`)."""
+        counts = self.data.warning.number
+        if counts[_UNSTABLE_INDEX].any():
+            names = [w.name for w in UNSTABLE_WARNINGS if counts[int(w)]]
+            detail = _last_warning[0] or ", ".join(names)
+            raise SimulatorError(f"mujoco: unstable simulation at t = {self.time:.3f} s: {detail}")
+
     def _read_sensors(self) -> Sensors:
         m, d = self.model, self.data
+        self._check_warnings()
         mujoco.mj_forward(m, d)  # sensors, contacts and poses of the state after the step
         self._forwarded = True
         self._contact_cache = None

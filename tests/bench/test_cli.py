@@ -48,9 +48,9 @@ def test_robot_json_shows_identical_models(scale):
 @pytest.mark.parametrize(
     ("args", "expected"),
     [
-        (["robot", "--scale", "-1"], "positive"),
+        (["robot", "--scale", "-1"], "--scale must be in [0.1, 10], got '-1'"),
         (["robot", "--scale", "abc"], "must be a number"),
-        (["robot", "--mass", "0"], "positive"),
+        (["robot", "--mass", "0"], "--mass must be in [0.001, 1e+06] kg, got '0'"),
         (["demo", "--sim", "gazebo"], "choose from: mujoco, pybullet"),
         (["nonsense"], "choose from 'robot', 'run', 'list', 'compare', 'demo'"),
     ],
@@ -83,3 +83,210 @@ def test_demo_stands_in_both_simulators(capsys):
     for row in rows.values():
         assert row[1] == "no"  # did not fall
         assert float(row[2]) == pytest.approx(1.0, abs=0.02)  # feet carry m g
+
+
+# ------------------------------------------------- bad input refused before anything runs
+
+RUN = ["run", "--planner", "hold", "--stabilizer", "posture", "--sim", "mujoco"]
+RUN += ["--scenario", "stand"]
+SWEEP = ["sweep", "--controllers", "hold+posture", "--sims", "mujoco", "--scenarios", "stand"]
+SEEDS_0_TO_100 = ",".join(str(seed) for seed in range(101))
+
+
+class Ran(Exception):
+    """Raised by the stand-ins of everything that runs: bad input must not get that far."""
+
+
+@pytest.fixture
+def nothing_runs(monkeypatch, tmp_path):
+    """The working directory is an empty tmp folder, and every runner (episode, sweep,
+    comparison, robot report, simulator) is replaced by one that raises `Ran`."""
+    import bench.compare
+    import bench.robot_check
+    import bench.runner
+    import bench.sweep
+
+    def ran(*args, **kwargs):
+        raise Ran("bad input got as far as running something")
+
+    for module, name in (
+        (bench.runner, "run_episode"),
+        (bench.sweep, "run_sweep"),
+        (bench.compare, "compare"),
+        (bench.compare, "horizon_timing"),
+        (bench.robot_check, "robot_report"),
+        (base, "make_simulator"),
+    ):
+        monkeypatch.setattr(module, name, ran)
+    monkeypatch.chdir(tmp_path)
+    return tmp_path
+
+
+def refused(argv: list[str], capsys) -> str:
+    """Run `main(argv)`, assert exit status 2 and one stderr line; returns that line."""
+    assert main(argv) == 2
+    err = capsys.readouterr().err
+    lines = err.splitlines()
+    assert len(lines) == 1, err
+    assert lines[0].startswith("centrobench: error: ")
+    assert "Traceback" not in err
+    return lines[0]
+
+
+@pytest.mark.parametrize(
+    ("argv", "expected"),
+    [
+        # item 7/9: durations shorter than a control period or longer than the trace can hold
+        ([*RUN, "--duration", "0.001"], "--duration must be in [0.002, 600] s, got '0.001'"),
+        ([*RUN, "--duration", "1e12"], "--duration must be in [0.002, 600] s, got '1e12'"),
+        (["demo", "--duration", "0.0001"], "--duration must be in [0.002, 600] s, got '0.0001'"),
+        ([*SWEEP, "--duration", "0.001"], "--duration must be in [0.002, 600] s"),
+        ([*SWEEP, "--duration", "nan"], "--duration must be finite (in [0.002, 600] s)"),
+        # seeds outside numpy's [0, 2**32)
+        ([*RUN, "--seed", "-1"], "--seed must be an integer in [0, 4294967295], got '-1'"),
+        ([*RUN, "--seed", "4294967296"], "--seed must be an integer in [0, 4294967295]"),
+        ([*SWEEP, "--seeds", "abc"], "every --seeds value must be an integer in [0, 4294967295]"),
+        ([*SWEEP, "--seeds", "0,-1"], "got '-1'"),
+        ([*SWEEP, "--push-dv", "0.2", "--push-seed", "-1"], "--push-seed must be an integer in"),
+        # robot size and mass
+        (["robot", "--scale", "1e-9"], "--scale must be in [0.1, 10], got '1e-9'"),
+        (["robot", "--mass", "1e-12"], "--mass must be in [0.001, 1e+06] kg, got '1e-12'"),
+        ([*SWEEP, "--scales", "1,1e-9"], "every --scales value must be in [0.1, 10], got '1e-9'"),
+        (["demo", "--scale", "inf"], "--scale must be finite"),
+        # compare
+        (["compare", "--planners", ""], "--planners must be a comma-separated list of planner"),
+        (["compare", "--planners", " , "], "--planners must be a comma-separated list"),
+        (
+            ["compare", "--planners", "hold", "--horizons", "100000"],
+            "every --horizons value must be an integer in [1, 100], got '100000'",
+        ),
+        (
+            ["compare", "--planners", "hold", "--horizons", "a"],
+            "every --horizons value must be an integer in [1, 100], got 'a'",
+        ),
+        (["compare", "--planners", "hold", "--horizons", "10,0"], "got '0'"),
+        # the other sweep flags
+        ([*SWEEP, "--push-dv", "1e307"], "every --push-dv value must be in (0, 100] m/s"),
+        ([*SWEEP, "--push-dv", "0.2,abc"], "every --push-dv value must be a number"),
+        ([*SWEEP, "--push-dv", ""], "--push-dv must be a comma-separated list of velocity"),
+        ([*SWEEP, "--push-dv", "0.2", "--push-count", "0"], "--push-count must be an integer"),
+        ([*SWEEP, "--push-dv", "0.2", "--push-count", "2.5"], "in [1, 10000], got '2.5'"),
+        ([*SWEEP, "--push-dv", "0.2", "--push-count", "10001"], "in [1, 10000], got '10001'"),
+        ([*SWEEP, "--workers", "0"], "--workers must be an integer in [1, 256], got '0'"),
+        ([*SWEEP, "--workers", "many"], "--workers must be an integer in [1, 256]"),
+        ([*SWEEP, "--frictions", "-1"], "every --frictions value must be in (0, 5], got '-1'"),
+        ([*SWEEP, "--frictions", "inf"], "every --frictions value must be finite"),
+        ([*SWEEP, "--controllers", ""], "--controllers must be a comma-separated list"),
+        # a sweep's name is one plain path component
+        ([*SWEEP, "--name", "../../x"], "--name must be 1 to 100 letters, digits"),
+        ([*SWEEP, "--name", ""], "got ''"),
+        ([*SWEEP, "--name", ".hidden"], "not starting with '.'"),
+        ([*SWEEP, "--name", "a/b"], "got 'a/b'"),
+        ([*SWEEP, "--name", "x..y"], "without '..'"),
+        # the sweep's size, from its axes
+        (
+            [*SWEEP, "--push-dv", "1", "--push-count", "10000", "--seeds", SEEDS_0_TO_100],
+            "1010101 episodes",
+        ),
+    ],
+)
+def test_bad_flag_is_refused_before_anything_runs(argv, expected, nothing_runs, capsys):
+    line = refused(argv, capsys)
+    assert expected in line
+    assert list(nothing_runs.iterdir()) == []  # no results/ folder, no file
+
+
+def test_unwritable_run_out_is_refused_before_the_episode(nothing_runs, capsys):
+    (nothing_runs / "file").write_text("")
+    line = refused([*RUN, "--duration", "0.01", "--out", "file/trace.parquet"], capsys)
+    assert "--out file/trace.parquet: file is not a folder" in line
+    line = refused([*RUN, "--duration", "0.01", "--out", str(nothing_runs)], capsys)
+    assert f"--out {nothing_runs} is a directory" in line
+
+
+def test_unwritable_compare_out_is_refused_before_the_episodes(nothing_runs, capsys):
+    argv = ["compare", "--planners", "hold", "--sims", "mujoco"]
+    line = refused([*argv, "--out", "missing/table.csv"], capsys)
+    assert "--out missing/table.csv: folder missing does not exist" in line
+    (nothing_runs / "table.csv").mkdir()
+    line = refused([*argv, "--out", "table.csv"], capsys)
+    assert "--out table.csv is a directory" in line
+
+
+def test_run_prints_the_summary_before_a_trace_that_cannot_be_written(
+    monkeypatch, tmp_path, capsys
+):
+    import bench.results
+
+    def fail(*args, **kwargs):
+        raise PermissionError(13, "Permission denied")
+
+    monkeypatch.setattr(bench.results, "write_trace", fail)
+    out = tmp_path / "trace.parquet"
+    assert main([*RUN, "--duration", "0.01", "--out", str(out)]) == 2
+    captured = capsys.readouterr()
+    assert captured.out.startswith("hold + posture on mujoco, stand: ok")  # not lost
+    assert captured.err.splitlines() == [
+        f"centrobench: error: --out {out}: cannot write it: Permission denied"
+    ]
+
+
+def test_spec_that_is_no_toml_file_is_named(nothing_runs, capsys):
+    line = refused(["sweep", "--spec", str(nothing_runs)], capsys)
+    assert line.endswith(f"sweep spec {nothing_runs} is a directory; give a TOML file")
+    (nothing_runs / "binary.toml").write_bytes(b"\xff\xfe\x00name = 1")
+    line = refused(["sweep", "--spec", "binary.toml"], capsys)
+    assert "sweep spec binary.toml is not UTF-8 text (byte 0xff at offset 0)" in line
+    line = refused(["sweep", "--spec", "missing.toml"], capsys)
+    assert "sweep spec missing.toml does not exist" in line
+    assert sorted(p.name for p in nothing_runs.iterdir()) == ["binary.toml"]
+
+
+@pytest.mark.parametrize(
+    ("content", "expected"),
+    [
+        ("[1, 2]", "is not pytest-benchmark JSON: an object with a 'benchmarks' list"),
+        ("[1, 2]", "got a JSON list"),
+        ("{'benchmarks': ", "is not readable JSON: Expecting property name"),
+        ('{"benchmarks": [{"name": "x"}]}', "got an object without that"),
+        (None, "is not readable JSON: Is a directory"),
+    ],
+)
+def test_bad_benchmark_json_is_named(content, expected, nothing_runs, capsys):
+    path = nothing_runs / "bench.json"
+    if content is None:
+        path.mkdir()
+    else:
+        path.write_text(content)
+    line = refused(["report", "results", "--benchmark-json", str(path)], capsys)
+    assert f"benchmark file {path} " in line
+    assert expected in line
+    assert sorted(p.name for p in nothing_runs.iterdir()) == ["bench.json"]
+
+
+def test_error_messages_are_collapsed_to_one_line(monkeypatch, capsys):
+    import bench.robot_check
+
+    def fail(*args, **kwargs):
+        raise ValueError("Error: 'inertia must have positive eigenvalues'\nElement 'torso'")
+
+    monkeypatch.setattr(bench.robot_check, "robot_report", fail)
+    line = refused(["robot"], capsys)
+    assert line == (
+        "centrobench: error: Error: 'inertia must have positive eigenvalues' Element 'torso'"
+    )
+
+
+def test_closed_stdout_pipe_ends_quietly():
+    """`centrobench robot --json | head -0`: the reader is gone before the output is
+    written; no traceback, exit status 1 (as Python's own on EPIPE)."""
+    process = subprocess.Popen(
+        [sys.executable, "-m", "bench.cli", "robot", "--json"],
+        stdout=subprocess.PIPE,
+        stderr=subprocess.PIPE,
+    )
+    process.stdout.close()  # before the report (about a second) is printed
+    _, err = process.communicate(timeout=300)
+    assert process.returncode == 1
+    assert "Traceback" not in err.decode()
+    assert "BrokenPipeError" not in err.decode()

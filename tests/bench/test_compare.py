@@ -59,7 +59,10 @@ def test_horizon_timing_rows():
             ["compare", "--planners", "hold", "--horizons", "20", "--formulations", "dense:x"],
             "unknown formulation 'dense:x'",
         ),
-        (["compare", "--planners", "hold", "--horizons", "0"], "--horizons must be positive"),
+        (
+            ["compare", "--planners", "hold", "--horizons", "0"],
+            "every --horizons value must be an integer in [1, 100], got '0'",
+        ),
     ],
 )
 def test_bad_compare_requests_fail_with_one_line(argv, message, capsys):

@@ -197,3 +197,40 @@ def test_cli_run_json(sim):
     assert summary["fell"] is False
     assert summary["sim"] == sim
     assert set(summary["latency_us"]) >= STAGES
+
+
+def test_mujoco_blow_up_is_an_error_not_a_fall():
+    """An absurd push makes MuJoCo's accelerations non-finite; MuJoCo then resets the state
+    (the robot would lie on the ground: a 'fall'). The warning counters say what happened."""
+    result = run_episode(
+        EpisodeSpec(
+            planner="hold",
+            stabilizer="posture",
+            sim="mujoco",
+            scenario="stand_push",
+            duration=0.3,
+            push_time=0.1,
+            push_impulse=1e9,
+            push_direction_deg=0.0,
+        )
+    )
+    summary = result.summary
+    assert summary["status"] == "error"
+    assert not summary["fell"]
+    assert summary["error_stage"] == "sim"
+    assert "mujoco: unstable simulation at t = " in summary["error"]
+    assert "QACC" in summary["error"]  # MuJoCo's own message, kept off stdout
+    assert 0.1 <= summary["duration"] < 0.3
+
+
+def test_mujoco_warning_is_kept_off_stdout():
+    code = (
+        "import json; from bench.runner import EpisodeSpec, run_episode, summary_json_ready\n"
+        "r = run_episode(EpisodeSpec(planner='hold', stabilizer='posture', sim='mujoco', "
+        "scenario='stand_push', duration=0.3, push_time=0.1, push_impulse=1e9))\n"
+        "print(json.dumps(summary_json_ready(r.summary)))\n"
+    )
+    out = subprocess.run(
+        [sys.executable, "-c", code], capture_output=True, text=True, timeout=300, check=True
+    ).stdout
+    assert json.loads(out)["status"] == "error"  # stdout is exactly the JSON document

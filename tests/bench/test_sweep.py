@@ -93,7 +93,7 @@ def test_episode_that_always_kills_its_worker_is_an_error_row(tmp_path: Path, mo
     assert len(frame) == 6
     failed = frame[frame["episode_id"] == target].iloc[0]
     assert failed["status"] == "error"
-    assert "worker process died" in failed["error"]
+    assert "worker process was killed by SIGKILL during this episode, twice" in failed["error"]
     assert set(frame.loc[frame["episode_id"] != target, "status"]) == {"ok"}
 
 

@@ -24,7 +24,41 @@ VALID = {"controllers": ["hold+posture"], "sims": ["mujoco"], "scenarios": ["sta
         ({"sims": ["gazebo"]}, "sims", "mujoco, pybullet"),
         ({"seeds": "zero"}, "seeds", "a list of integers"),
         ({"seeds": [0.5]}, "seeds[0]", "integer"),
-        ({"scales": [0.0]}, "scales[0]", "positive number"),
+        ({"scales": [0.0]}, "scales[0]", "must be a number in [0.1, 10], got 0.0"),
+        ({"scales": [1.0, 1e-9]}, "scales[1]", "must be a number in [0.1, 10], got 1e-09"),
+        ({"frictions": [1e300]}, "frictions[0]", "must be a number in (0, 5], got 1e+300"),
+        ({"seeds": [-1]}, "seeds[0]", "an integer in [0, 4294967295], got -1"),
+        ({"seeds": [0, 2**32]}, "seeds[1]", "an integer in [0, 4294967295], got 4294967296"),
+        ({"duration": 0.001}, "duration", "a number in [0.002, 600] s, got 0.001"),
+        ({"timeout_base_s": 0}, "timeout_base_s", "a number in (0, 86400] s, got 0"),
+        ({"timeout_base_s": 10**400}, "timeout_base_s", "a number in (0, 86400] s"),
+        ({"timeout_per_sim_s": "10"}, "timeout_per_sim_s", "(0, 1000] s per simulated s"),
+        ({"timeout_per_sim_s": float("nan")}, "timeout_per_sim_s", "got nan"),
+        ({"duration": 1e12}, "duration", "a number in [0.002, 600] s, got 1000000000000.0"),
+        ({"duration": 10**400}, "duration", "a number in [0.002, 600] s"),
+        ({"name": "../../x"}, "name", "letters, digits, '-', '_' or '.', not starting with '.'"),
+        ({"name": ""}, "name", "got ''"),
+        ({"name": "a/b"}, "name", "got 'a/b'"),
+        ({"name": ".."}, "name", "got '..'"),
+        ({"name": 3}, "name", "got 3"),
+        ({"estimator": ["kalman"]}, "estimator", "ground_truth"),
+        ({"push": {"dv": [1e307]}}, "push.dv", "at most 100, got 1e+307"),
+        ({"push": {"dv": [10**400]}}, "push.dv", "at most 100"),
+        ({"push": {"dv": [0.2], "count": 10**9}}, "push.count", "at most 10000, got 1000000000"),
+        ({"push": {"dv": [0.2], "seed": -1}}, "push.seed", "in [0, 4294967295] (seed of"),
+        ({"push": {"dv": [0.2], "walking_push_step": 11}}, "push.walking_push_step", "[1, 10]"),
+        ({"push": {"dv": [0.2], "survival_time": 1e9}}, "push.survival_time", "at most 600 s"),
+        (
+            {"push": {"dv": [0.2], "standing_push_time": 1e9}},
+            "push.standing_push_time",
+            "at most 600 s), got 1000000000.0",
+        ),
+        (
+            {"push": {"dv": [0.2], "standing_push_time": 300, "survival_time": 300}},
+            "push.survival_time",
+            "standing push episode 600.1 s long; the longest is 600 s",
+        ),
+        ({"push": {"dv": [0.2], "phases": [["standing"]]}}, "push.phases", "standing, walking"),
         ({"push": {"dv": [0.2], "count": "twenty"}}, "push.count", "positive integer"),
         ({"push": {"dv": [0.2], "phases": ["running"]}}, "push.phases", "standing, walking"),
         ({"push": {"count": 20}}, "push.dv", "missing"),
@@ -46,6 +80,52 @@ def test_malformed_spec_names_the_field_and_the_valid_values(change, field, vali
 def test_missing_required_field_is_named():
     with pytest.raises(SpecError, match="missing field 'controllers'"):
         spec_from_mapping({"sims": ["mujoco"], "scenarios": ["stand"]})
+
+
+def test_sweep_size_is_bounded_from_the_grid_without_listing_episodes(monkeypatch):
+    from bench import sweep_spec
+
+    def listed(*args, **kwargs):
+        raise AssertionError("the episodes were listed to count them")
+
+    monkeypatch.setattr(sweep_spec, "push_episodes", listed)
+    monkeypatch.setattr(sweep_spec.SweepSpec, "episodes", listed)
+    data = {**VALID, "seeds": list(range(100)), "push": {"dv": [0.1, 0.2], "count": 10_000}}
+    with pytest.raises(SpecError) as error:
+        spec_from_mapping(data)
+    assert str(error.value).startswith("sweep spec: 2000100 episodes")
+    assert "more than the 1000000 a sweep may have" in str(error.value)
+    data["seeds"] = list(range(49))  # 49 x (1 + 2 x 10,000) = 980,049: allowed
+    assert spec_from_mapping(data).push.count == 10_000
+
+
+def test_walking_push_episode_must_fit_the_longest_episode():
+    # the standing push ends at 0.2 + 0.1 + 599 s = 599.3 s, within 600 s, but the walking
+    # push of step 3 starts about 3 s into the walk (later on a larger robot)
+    push = {"dv": [0.2], "phases": ["walking"], "survival_time": 599.0}
+    with pytest.raises(SpecError, match=r"'push\.survival_time': a walking push at scale 1 "):
+        spec_from_mapping({**VALID, "push": push})
+    assert spec_from_mapping({**VALID, "push": {**push, "phases": ["standing"]}}).push
+
+
+@pytest.mark.parametrize(
+    ("content", "expected"),
+    [
+        (None, "is a directory; give a TOML file"),
+        (b"\xff\xfe\x00name = 1", "is not UTF-8 text (byte 0xff at offset 0)"),
+        (b"controllers = [", "is not valid TOML: "),
+    ],
+)
+def test_spec_file_that_is_not_toml_is_named(tmp_path: Path, content, expected):
+    path = tmp_path / "spec.toml"
+    if content is None:
+        path.mkdir()
+    else:
+        path.write_bytes(content)
+    with pytest.raises(SpecError) as error:
+        load_spec(path)
+    assert str(error.value).startswith(f"sweep spec {path} {expected}")
+    assert "\n" not in str(error.value)
 
 
 def test_bad_spec_fails_before_any_episode_runs(tmp_path: Path, capsys):

@@ -118,11 +118,81 @@ def test_survival_table_counts_the_fixture(results):
     assert list(table["controller"]) == ["a+x", "a+x", "b+y", "b+y"]
     assert list(table["sim"]) == ["mujoco", "pybullet"] * 2
     labels = [tables.level_label(dv, MASS * dv) for dv in LEVELS]
-    assert list(table.columns) == ["controller", "sim", *labels]
+    assert list(table.columns) == ["controller", "sim", *labels, "not judged"]
     assert labels == ["0.2 m/s (10.0 N s)", "0.4 m/s (20.0 N s)"]
     for _, row in table.iterrows():
         expected = SURVIVED[(row["controller"], row["sim"])]
         assert [row[label] for label in labels] == [f"{k}/{PUSHES}" for k in expected]
+        assert row["not judged"] == ""
+
+
+def _push_rows(statuses: list[str], survived: list[bool | None]) -> pd.DataFrame:
+    return pd.DataFrame(
+        [
+            _row(
+                episode_id=f"p{k}",
+                controller="a+x",
+                sim="mujoco",
+                scenario="stand_push",
+                push_phase="standing",
+                push_dv_mps=0.2,
+                push_index=k,
+                push_impulse_Ns=MASS * 0.2,
+                status=status,
+                survived=alive,
+            )
+            for k, (status, alive) in enumerate(zip(statuses, survived, strict=True))
+        ]
+    )
+
+
+def test_errors_and_timeouts_are_not_counted_as_failed_pushes():
+    rows = _push_rows(
+        ["ok", "ok", "ok", "fell", "error", "timeout", "error"],
+        [True, True, True, False, None, None, False],  # an old error row said False
+    )
+    table = tables.survival_table(rows, "standing")
+    assert table.loc[0, "0.2 m/s (10.0 N s)"] == "3/4"  # 3 survived of the 4 judged
+    assert table.loc[0, "not judged"] == "2 error, 1 timeout"
+    rates = tables.survival_rates(rows, "standing")
+    assert rates.loc[0, "rate"] == pytest.approx(0.75)
+    assert rates.loc[0, "not_judged"] == 3
+
+
+def test_a_level_with_no_judged_push_has_no_rate():
+    rates = tables.survival_rates(_push_rows(["error", "timeout"], [None, None]), "standing")
+    assert rates.loc[0, "pushes"] == 0
+    assert np.isnan(rates.loc[0, "rate"])
+
+
+def test_report_says_the_specs_survival_time(tmp_path: Path):
+    root = tmp_path / "results"
+    store = ResultStore(root)
+    store.prepare({"name": "t", "push": {"survival_time": 0.7}}, "d", resume=False, overwrite=False)
+    for row in _push_rows(["ok", "fell"], [True, False]).to_dict("records"):
+        store.write(row, None)
+    build_report(root, tmp_path / "report")
+    markdown = (tmp_path / "report" / "report.md").read_text()
+    assert "no fall within 0.7 s after it" in markdown
+    assert "within 3 s" not in markdown
+
+
+def test_corrupt_trace_and_foreign_file_are_left_out_with_a_note(results, tmp_path: Path):
+    import shutil
+
+    root = tmp_path / "copy"
+    shutil.copytree(results[0], root)
+    trace = sorted((root / "traces").glob("*.parquet"))[0]
+    trace.write_bytes(b"PAR1 not really")
+    pd.DataFrame({"x": [1]}).to_parquet(root / "episodes" / "foreign.parquet")
+    (root / "episodes" / "broken.parquet").write_bytes(b"\x00" * 10)
+    paths = build_report(root, tmp_path / "report")
+    markdown = (tmp_path / "report" / "report.md").read_text()
+    assert "walk.png" in {p.name for p in paths}  # the other controller's walk is plotted
+    assert f"traces/{trace.name}: unreadable, not plotted" in markdown
+    assert "foreign.parquet: not an episode row" in markdown
+    assert "broken.parquet: unreadable" in markdown
+    assert "| a+x          | pybullet | 3/4" in markdown  # the tables are whole
 
 
 def test_agreement_table_differences(results):

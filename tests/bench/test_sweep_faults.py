@@ -1,0 +1,391 @@
+"""Faults injected into sweeps (issue 14): a hung episode, a worker killed by a signal, the
+sweep's parent killed (SIGTERM, SIGKILL), a corrupt episode file, a results disk that fails;
+two sweeps on one directory; --overwrite with a bad executor; --resume with another spec.
+
+After each fault the finished episodes are kept and `--resume` (with `--retry-errors` where
+the fault left error or timeout rows) produces the same episode set, with the same non-timing
+columns, as one uninterrupted run (`reference`).
+"""
+
+from __future__ import annotations
+
+import errno
+import json
+import os
+import re
+import signal
+import socket
+import subprocess
+import sys
+import time
+from pathlib import Path
+
+import pandas as pd
+import pytest
+
+from bench import dataset
+from bench.dataset import ResultStore, ResultStoreError, read_episodes, spec_differences
+from bench.executors import worker_progress
+from bench.sweep import run_one, run_sweep
+from bench.sweep_spec import spec_from_mapping
+from tests.bench.test_sweep import ROOT, physical
+
+# short budgets: these episodes take well under a second of wall-clock time each
+BUDGET = {"timeout_base_s": 5.0, "timeout_per_sim_s": 1.0}
+
+
+def fault_spec(**extra):
+    """A 0.3 s stand and two 0.5 s standing pushes in each simulator (6 episodes); a field
+    given as None is left out (push=None: the stand only)."""
+    data = {
+        "controllers": ["hold+posture"],
+        "sims": ["all"],
+        "scenarios": ["stand"],
+        "duration": 0.3,
+        "traces": ["stand"],
+        "push": {"dv": [0.3], "count": 2, "survival_time": 0.3, "standing_push_time": 0.1},
+        **BUDGET,
+        **extra,
+    }
+    return spec_from_mapping({k: v for k, v in data.items() if v is not None})
+
+
+CLI_SPEC = """
+controllers = ["hold+posture"]
+sims = ["all"]
+scenarios = ["stand"]
+duration = 0.3
+traces = ["stand"]
+timeout_base_s = 5.0
+timeout_per_sim_s = 1.0
+
+[push]
+dv = [0.3]
+count = 2
+survival_time = 0.3
+standing_push_time = 0.1
+"""
+
+
+@pytest.fixture(scope="module")
+def reference(tmp_path_factory) -> pd.DataFrame:
+    """The uninterrupted run of `fault_spec`."""
+    frame = run_sweep(fault_spec(), tmp_path_factory.mktemp("reference"), progress=False)
+    assert set(frame["status"]) == {"ok"}
+    assert len(frame) == 6
+    return frame
+
+
+def same_as_reference(frame: pd.DataFrame, reference: pd.DataFrame) -> None:
+    pd.testing.assert_frame_equal(physical(frame), physical(reference))
+
+
+def resume(out: Path, retry_errors: bool = False) -> pd.DataFrame:
+    return run_sweep(
+        fault_spec(), out, resume=True, retry_errors=retry_errors, workers=2, progress=False
+    )
+
+
+# ------------------------------------------------------------------------- fault workers
+
+_TARGET_ENV = "CENTROBENCH_TEST_TARGET"
+
+
+def _is_target(episode) -> bool:
+    return episode.episode_id == os.environ[_TARGET_ENV]
+
+
+def hanging_work(episode):
+    """run_one, except that the target episode says it is in the planner stage at t = 0.25 s
+    and then hangs inside C code that holds the GIL (a regular expression that backtracks for
+    ever), as a solver without an iteration limit would."""
+    if _is_target(episode):
+        progress = worker_progress()  # None in a Ray task
+        if progress is not None:
+            progress[0], progress[1] = 2.0, 0.25  # bench.runner.PROGRESS_STAGES[2]: planner
+        re.match(r"(a+)+$", "a" * 64 + "b")  # exponential backtracking, in C
+    return run_one(episode)
+
+
+def killed_work(episode):
+    """run_one, except that the target episode's worker is killed (SIGKILL) every time."""
+    if _is_target(episode):
+        os.kill(os.getpid(), signal.SIGKILL)
+    return run_one(episode)
+
+
+# ------------------------------------------------------------------------------- tests
+
+
+def test_hung_episode_is_a_timeout_row_with_its_stage_and_resume_reruns_it(
+    tmp_path: Path, monkeypatch, reference
+):
+    spec = fault_spec()
+    target = spec.episodes()[1]
+    monkeypatch.setenv(_TARGET_ENV, target.episode_id)
+    out = tmp_path / "out"
+    begin = time.monotonic()
+    frame = run_sweep(spec, out, workers=2, progress=False, work=hanging_work)
+    elapsed = time.monotonic() - begin
+    budget = spec.wall_budget_s(0.5)  # the pushed episode: 0.1 + 0.1 + 0.3 s simulated
+    assert target.run.scenario == "stand_push"
+    assert target.run.duration == pytest.approx(0.5)
+    assert elapsed < budget + 60  # the sweep went on (the hang itself would never end)
+    row = frame.set_index("episode_id").loc[target.episode_id]
+    assert row["status"] == "timeout"
+    assert row["error_stage"] == "planner"
+    assert row["duration"] == pytest.approx(0.25)
+    assert f"budget of {budget:.0f} s" in row["error"]
+    assert "tests/bench/test_sweep_faults.py" in row["error"]  # the stack's location
+    assert pd.isna(row["survived"])  # a timeout says nothing about the controller
+    others = frame[frame["episode_id"] != target.episode_id]
+    assert set(others["status"]) == {"ok"}
+    assert not resume(out).eq(frame).empty  # plain resume: nothing missing, nothing rerun
+    assert (read_episodes(out)["status"] == "timeout").sum() == 1
+    same_as_reference(resume(out, retry_errors=True), reference)
+
+
+def test_hung_ray_task_is_cancelled_and_recorded_as_a_timeout(tmp_path: Path, monkeypatch):
+    ray = pytest.importorskip("ray", reason="Ray is a dev dependency; reinstall with make")
+    spec = fault_spec(push=None)
+    target = spec.episodes()[0]
+    monkeypatch.setenv(_TARGET_ENV, target.episode_id)  # Ray's local workers inherit it
+    try:
+        frame = run_sweep(
+            spec, tmp_path / "out", executor="ray", workers=2, progress=False, work=hanging_work
+        )
+    finally:
+        ray.shutdown()
+    rows = frame.set_index("episode_id")
+    assert rows.loc[target.episode_id, "status"] == "timeout"
+    assert "in an unknown stage" in rows.loc[target.episode_id, "error"]
+    assert set(rows.drop(index=target.episode_id)["status"]) == {"ok"}
+
+
+def test_worker_killed_by_a_signal_is_an_error_row_and_resume_reruns_it(
+    tmp_path: Path, monkeypatch, reference
+):
+    spec = fault_spec()
+    target = spec.episodes()[4]
+    monkeypatch.setenv(_TARGET_ENV, target.episode_id)
+    out = tmp_path / "out"
+    frame = run_sweep(spec, out, workers=2, progress=False, work=killed_work)
+    row = frame.set_index("episode_id").loc[target.episode_id]
+    assert row["status"] == "error"
+    assert "killed by SIGKILL" in row["error"]
+    same_as_reference(resume(out, retry_errors=True), reference)
+
+
+def test_corrupt_episode_file_is_set_aside_and_run_again(tmp_path: Path, reference):
+    out = tmp_path / "out"
+    run_sweep(fault_spec(), out, workers=2, progress=False)
+    victim = sorted((out / "episodes").glob("*.parquet"))[2]
+    victim.write_bytes(victim.read_bytes()[:100])  # truncated: unreadable Parquet
+    foreign = out / "episodes" / "foreign.parquet"
+    pd.DataFrame({"x": [1.0]}).to_parquet(foreign)  # readable, but not an episode row
+    same_as_reference(resume(out), reference)
+    kept = sorted(p.name.split(".")[0] for p in (out / "corrupt").iterdir())
+    assert kept == sorted(["foreign", victim.stem])  # kept aside, not deleted
+
+
+def test_full_results_disk_stops_the_sweep_and_resume_completes_it(
+    tmp_path: Path, monkeypatch, reference
+):
+    """A full disk, simulated: the third episode file cannot be written (ENOSPC). (An
+    unwritable directory cannot simulate it here: the tests may run as root, whom permission
+    bits do not stop.)"""
+    out = tmp_path / "out"
+    written = []
+    original = dataset._atomic_write_table
+
+    def failing_write(table, path):
+        if path.parent.name == "episodes" and len(written) == 2:
+            raise OSError(errno.ENOSPC, os.strerror(errno.ENOSPC), str(path))
+        original(table, path)
+        if path.parent.name == "episodes":
+            written.append(path)
+
+    monkeypatch.setattr(dataset, "_atomic_write_table", failing_write)
+    with pytest.raises(OSError, match="No space left"):
+        run_sweep(fault_spec(), out, workers=2, progress=False)
+    assert len(list((out / "episodes").glob("*.parquet"))) == 2  # the finished ones stay
+    assert not list((out / "episodes").glob(".*.tmp"))  # no half-written file left
+    monkeypatch.setattr(dataset, "_atomic_write_table", original)
+    same_as_reference(resume(out), reference)
+
+
+def _children(pid: int) -> set[int]:
+    path = Path(f"/proc/{pid}/task/{pid}/children")
+    return {int(p) for p in path.read_text().split()} if path.exists() else set()
+
+
+def _alive(pid: int) -> bool:
+    try:
+        status = Path(f"/proc/{pid}/status").read_text()
+    except FileNotFoundError:
+        return False
+    return "State:\tZ" not in status  # a zombie has exited
+
+
+@pytest.mark.skipif(not sys.platform.startswith("linux"), reason="reads /proc")
+@pytest.mark.parametrize("signum", [signal.SIGTERM, signal.SIGKILL])
+def test_killing_the_sweep_ends_its_workers_and_resume_completes_it(
+    tmp_path: Path, signum, reference
+):
+    spec_file = tmp_path / "spec.toml"
+    spec_file.write_text(CLI_SPEC)
+    out = tmp_path / "out"
+    command = [sys.executable, "-m", "bench.cli", "sweep", "--spec", str(spec_file)]
+    command += ["--out", str(out), "--workers", "2", "--no-progress"]
+    process = subprocess.Popen(command, cwd=ROOT, stderr=subprocess.PIPE, text=True)
+    deadline = time.monotonic() + 120
+    workers: set[int] = set()
+    while time.monotonic() < deadline and process.poll() is None:
+        workers = _children(process.pid)
+        if len(workers) >= 2 and list((out / "episodes").glob("*.parquet")):
+            break
+        time.sleep(0.05)
+    assert len(workers) >= 2, "the sweep should have started its workers"
+    process.send_signal(signum)
+    process.wait(timeout=60)
+    stderr = process.stderr.read() if process.stderr else ""
+    if signum == signal.SIGTERM:
+        assert process.returncode == 143, stderr
+        assert "terminated (SIGTERM)" in stderr
+        assert "Traceback" not in stderr
+    end = time.monotonic() + 15
+    while time.monotonic() < end and any(_alive(pid) for pid in workers):
+        time.sleep(0.1)
+    assert not [pid for pid in workers if _alive(pid)], "workers outlived their parent"
+    finished = len(list((out / "episodes").glob("*.parquet")))
+    assert 1 <= finished < 6, "kill the sweep in the middle"
+    same_as_reference(resume(out), reference)
+
+
+def test_a_second_sweep_on_the_same_directory_is_refused(tmp_path: Path):
+    out = tmp_path / "out"
+    holder = re.escape(f"in use by another sweep (pid {os.getpid()}")
+    with ResultStore(out).locked(), pytest.raises(ResultStoreError, match=holder):
+        run_sweep(fault_spec(), out, workers=1, progress=False)
+    assert not (out / "episodes").exists()  # nothing was written by the refused sweep
+
+
+def test_the_lock_of_a_killed_sweep_is_not_stale(tmp_path: Path):
+    out = tmp_path / "out"
+    code = (
+        "import sys, time; from bench.dataset import ResultStore\n"
+        f"with ResultStore({str(out)!r}).locked():\n"
+        "    print('locked', flush=True); time.sleep(600)\n"
+    )
+    holder = subprocess.Popen(
+        [sys.executable, "-c", code], cwd=ROOT, stdout=subprocess.PIPE, text=True
+    )
+    assert holder.stdout is not None
+    assert holder.stdout.readline().strip() == "locked"
+    with pytest.raises(ResultStoreError, match=f"pid {holder.pid}"), ResultStore(out).locked():
+        pass
+    holder.kill()
+    holder.wait(timeout=30)
+    with ResultStore(out).locked():  # the kernel dropped the dead holder's lock
+        pass
+
+
+def _closed_port() -> int:
+    with socket.socket() as probe:
+        probe.bind(("127.0.0.1", 0))
+        return probe.getsockname()[1]
+
+
+@pytest.mark.parametrize(
+    ("flags", "message"),
+    [
+        (["--address", "127.0.0.1:6379"], "--address is for the ray executor"),
+        (["--executor", "ray", "--address", "127.0.0.1:{port}"], "no Ray cluster at 127.0.0.1"),
+        (["--executor", "ray", "--address", "nonsense"], "--address must be HOST:PORT"),
+        (["--retry-errors"], "--retry-errors goes with --resume"),
+    ],
+)
+def test_overwrite_keeps_the_results_when_the_rest_of_the_command_is_wrong(
+    tmp_path: Path, capsys, flags, message
+):
+    from bench.cli import main
+
+    pytest.importorskip("ray", reason="Ray is a dev dependency; reinstall with make")
+    out = tmp_path / "out"
+    run_sweep(fault_spec(push=None, sims=["mujoco"]), out, workers=1, progress=False)
+    before = {p.name: p.read_bytes() for p in (out / "episodes").iterdir()}
+    flags = [f.format(port=_closed_port()) for f in flags]
+    argv = ["sweep", "--controllers", "hold+posture", "--sims", "mujoco", "--scenarios", "stand"]
+    argv += ["--duration", "0.3", "--out", str(out), "--overwrite", "--no-progress", *flags]
+    begin = time.monotonic()
+    assert main(argv) == 2
+    assert time.monotonic() - begin < 30  # a bounded check, not ray.init's retries
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1, err
+    assert err[0].startswith("centrobench: error:")
+    assert message in err[0]
+    assert {p.name: p.read_bytes() for p in (out / "episodes").iterdir()} == before
+
+
+def test_overwrite_moves_old_results_aside_until_the_new_sweep_has_started(tmp_path: Path):
+    out = tmp_path / "out"
+    old = run_sweep(fault_spec(push=None, sims=["mujoco"]), out, workers=1, progress=False)
+    old_files = {p.name for p in (out / "episodes").iterdir()}
+
+    def interrupt(total: int, todo: int) -> None:  # stopped before any new episode ran
+        raise KeyboardInterrupt
+
+    new_spec = fault_spec(push=None, sims=["pybullet"])
+    with pytest.raises(KeyboardInterrupt):
+        run_sweep(new_spec, out, overwrite=True, workers=1, progress=False, on_start=interrupt)
+    assert {p.name for p in (out / "episodes").iterdir()} == old_files  # restored
+    assert json.loads((out / "sweep.json").read_text())["digest"] != new_spec.digest()
+    assert not list(out.glob(".previous-*"))
+
+    new = run_sweep(new_spec, out, overwrite=True, workers=1, progress=False)
+    assert set(new["sim"]) == {"pybullet"}
+    assert set(old["sim"]) == {"mujoco"}
+    assert not list(out.glob(".previous-*"))  # deleted once the new sweep had started
+
+
+def test_resume_with_another_spec_names_the_fields_that_differ(tmp_path: Path):
+    out = tmp_path / "out"
+    run_sweep(fault_spec(push=None, sims=["mujoco"]), out, workers=1, progress=False)
+    other = fault_spec(push={"dv": [0.3], "count": 3}, sims=["mujoco"], seeds=[1])
+    with pytest.raises(ResultStoreError, match=r"fields that differ: push, seeds\)"):
+        run_sweep(other, out, resume=True, workers=1, progress=False)
+    # the budget says how the sweep runs, not what it measures: a resume may change it
+    longer = fault_spec(push=None, sims=["mujoco"], timeout_base_s=100.0)
+    assert len(run_sweep(longer, out, resume=True, workers=1, progress=False)) == 1
+
+
+def test_spec_differences_name_nested_push_fields():
+    a = fault_spec().to_dict()
+    b = fault_spec(push={"dv": [0.3], "count": 5, "survival_time": 0.3}).to_dict()
+    assert spec_differences(a, b) == ["push.count", "push.standing_push_time"]
+    assert spec_differences(a, a) == []
+
+
+def test_resume_needs_the_sweep_record(tmp_path: Path):
+    out = tmp_path / "out"
+    run_sweep(fault_spec(push=None, sims=["mujoco"]), out, workers=1, progress=False)
+    record = out / "sweep.json"
+    record.write_text("{not json")
+    with pytest.raises(ResultStoreError, match=r"sweep\.json is not a readable sweep record"):
+        run_sweep(fault_spec(push=None, sims=["mujoco"]), out, resume=True, progress=False)
+    record.unlink()
+    with pytest.raises(ResultStoreError, match=r"holds 1 episodes but no sweep\.json"):
+        run_sweep(fault_spec(push=None, sims=["mujoco"]), out, resume=True, progress=False)
+
+
+def test_out_that_is_a_file_is_refused_before_anything_runs(tmp_path: Path, capsys):
+    from bench.cli import main
+
+    blocker = tmp_path / "file"
+    blocker.write_text("")
+    argv = ["sweep", "--controllers", "hold+posture", "--sims", "mujoco", "--scenarios"]
+    argv += ["stand", "--duration", "0.3", "--out", str(blocker / "out"), "--no-progress"]
+    assert main(argv) == 2
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1, err
+    assert "is a file, not a directory" in err[0]
