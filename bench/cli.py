@@ -230,8 +230,16 @@ def build_parser() -> argparse.ArgumentParser:
     robot.add_argument("--json", action="store_true", help="one JSON object on stdout")
 
     run = commands.add_parser("run", help="run one episode and summarise it")
-    run.add_argument("--planner", required=True, help="a planner name (see `centrobench list`)")
-    run.add_argument("--stabilizer", required=True, help="a stabilizer name")
+    run.add_argument(
+        "--controller",
+        default=None,
+        help="a controller name (see `centrobench list`), or give its parts:",
+    )
+    run.add_argument("--planner", default=None, help="a planner name")
+    run.add_argument("--stabilizer", default=None, help="a stabilizer name")
+    run.add_argument(
+        "--whole-body", default=None, help="a whole-body layer name (default ik_feedforward)"
+    )
     run.add_argument("--sim", required=True, type=_one_simulator, help="mujoco or pybullet")
     run.add_argument("--scenario", required=True, help="a scenario name")
     run.add_argument(
@@ -262,7 +270,11 @@ def build_parser() -> argparse.ArgumentParser:
     run.add_argument("--out", default=None, help="write the per-period trace to FILE.parquet")
     run.add_argument("--json", action="store_true", help="the summary as one JSON object")
 
-    commands.add_parser("list", help="the registered planners, stabilizers, scenarios, sims")
+    commands.add_parser(
+        "list",
+        help="the registered controllers, planners, stabilizers, whole-body layers, "
+        "estimators, scenarios and simulators",
+    )
 
     compare = commands.add_parser(
         "compare",
@@ -464,22 +476,52 @@ def _robot(args: argparse.Namespace) -> int:
     return 0
 
 
-def _validate_names(args: argparse.Namespace) -> None:
-    """Unknown planner / stabilizer / scenario / estimator: one line with the known names."""
-    from bench.scenarios import SCENARIOS
-    from planners.base import planner_spec
-    from robots.estimators import ESTIMATORS
-    from stabilizers.base import stabilizer_spec
+def _resolve_controller(args: argparse.Namespace) -> None:
+    """Fill args.planner, args.stabilizer and args.whole_body from --controller, or check that
+    the parts were given; one line naming what is missing or unknown."""
+    from bench.controllers import CONTROLLERS, controller_spec
+    from wholebody.base import DEFAULT_WHOLE_BODY
 
+    if args.controller is not None:
+        given = [f for f in ("planner", "stabilizer", "whole_body") if getattr(args, f)]
+        if given:
+            flags = ", ".join("--" + f.replace("_", "-") for f in given)
+            raise UsageError(f"--controller names all three parts; drop {flags}")
+        spec = controller_spec(args.controller)
+        args.planner, args.stabilizer, args.whole_body = (
+            spec.planner,
+            spec.stabilizer,
+            spec.whole_body,
+        )
+        return
+    if args.planner is None or args.stabilizer is None:
+        raise UsageError(
+            "give --controller NAME (one of: "
+            f"{', '.join(CONTROLLERS)}) or --planner and --stabilizer"
+        )
+    args.whole_body = args.whole_body or DEFAULT_WHOLE_BODY
+
+
+def _validate_names(args: argparse.Namespace) -> None:
+    """Unknown controller / planner / stabilizer / whole-body layer / scenario / estimator:
+    one line with the known names."""
+    from bench.scenarios import SCENARIOS
+    from estimators.base import ESTIMATORS
+    from planners.base import planner_spec
+    from stabilizers.base import stabilizer_spec
+    from wholebody.base import WHOLE_BODY_LAYERS
+
+    _resolve_controller(args)
     planner_spec(args.planner)
     stabilizer_spec(args.stabilizer)
+    WHOLE_BODY_LAYERS.get(args.whole_body)
     if args.scenario not in SCENARIOS:
         raise UsageError(
             f"unknown scenario {args.scenario!r}; choose one of: {', '.join(SCENARIOS)}"
         )
-    if args.estimator not in ESTIMATORS:
+    if args.estimator not in ESTIMATORS.names():
         raise UsageError(
-            f"unknown estimator {args.estimator!r}; choose one of: {', '.join(ESTIMATORS)}"
+            f"unknown estimator {args.estimator!r}; choose one of: {', '.join(ESTIMATORS.names())}"
         )
 
 
@@ -577,6 +619,7 @@ def _run(args: argparse.Namespace) -> int:
         push_impulse=args.push_impulse,
         push_direction_deg=args.push_direction,
         estimator=args.estimator,
+        whole_body=args.whole_body,
     )
     result = run_episode(spec)
     summary = summary_json_ready(result.summary)
@@ -619,17 +662,29 @@ def _print_summary(summary: dict, as_json: bool) -> None:
 
 
 def _list(args: argparse.Namespace) -> int:
+    from bench.controllers import CONTROLLERS
     from bench.scenarios import SCENARIOS
+    from estimators.base import ESTIMATORS
     from planners.base import PLANNERS
-    from robots.estimators import ESTIMATORS
     from stabilizers.base import STABILIZERS
+    from wholebody.base import WHOLE_BODY_LAYERS
 
+    def described(registry) -> dict[str, str]:
+        return {n: registry.get(n).description for n in registry.names()}
+
+    print("controllers (planner, stabilizer, whole-body layer):")
+    for name, spec in CONTROLLERS.items():
+        print(
+            f"  {name}\n      ({spec.planner}, {spec.stabilizer}, {spec.whole_body}) "
+            f"{spec.description}".rstrip()
+        )
     sections = {
-        "planners": {n: PLANNERS.get(n).description for n in PLANNERS.names()},
-        "stabilizers": {n: STABILIZERS.get(n).description for n in STABILIZERS.names()},
+        "planners": described(PLANNERS),
+        "stabilizers": described(STABILIZERS),
+        "whole-body layers": described(WHOLE_BODY_LAYERS),
+        "estimators": described(ESTIMATORS),
         "scenarios": {n: s.description for n, s in SCENARIOS.items()},
         "simulators": {n: "" for n in SIMULATORS},
-        "estimators": {n: "" for n in ESTIMATORS},
     }
     for title, entries in sections.items():
         print(f"{title}:")
@@ -719,18 +774,16 @@ def _sweep(args: argparse.Namespace) -> int:
         spec = spec_from_mapping(_sweep_mapping(args))
     except SpecError as exc:
         raise UsageError(str(exc)) from None
-    if args.resume and args.overwrite:
-        raise UsageError("--resume and --overwrite exclude each other")
-    if args.retry_errors and not args.resume:
-        raise UsageError("--retry-errors goes with --resume")
     out = args.out or f"results/{spec.name}"
 
-    def announce(total: int, todo: int) -> None:
+    def announce(total: int, todo: int, notes: list[str]) -> None:
         left = "" if todo == total else f" ({total - todo} done, {todo} to run)"
         print(
             f"sweep {spec.name!r}: {total} episodes{left} -> {out} ({args.executor})",
             file=sys.stderr,
         )
+        for note in notes:
+            print(f"  {note}", file=sys.stderr)
 
     from bench.dataset import ResultStoreError
 
@@ -749,8 +802,6 @@ def _sweep(args: argparse.Namespace) -> int:
         )
     except (ResultStoreError, ImportError) as exc:
         raise UsageError(str(exc)) from None
-    except OSError as exc:  # the results disk: full, unwritable, gone
-        raise UsageError(f"cannot write the results in {out}: {exc.strerror or exc}") from None
     except RuntimeError as exc:  # the executor could not run (workers die at start-up)
         print(f"centrobench: error: {' '.join(str(exc).split())}", file=sys.stderr)
         return 1
@@ -760,7 +811,13 @@ def _sweep(args: argparse.Namespace) -> int:
         terminated = isinstance(exc, SweepTerminated)
         print(
             f"\n{'terminated (SIGTERM)' if terminated else 'interrupted'}: the finished "
-            f"episodes are in {out}; run the same command with --resume to complete the sweep",
+            f"episodes are in {out}; run the same command with --resume (not --overwrite) to "
+            "complete the sweep"
+            + (
+                " (an --overwrite stopped before its first episode put the earlier results back)"
+                if args.overwrite
+                else ""
+            ),
             file=sys.stderr,
         )
         return 143 if terminated else 130

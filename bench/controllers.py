@@ -1,9 +1,11 @@
-"""The controller registry: a controller is a (planner, stabilizer) pair with a name
-(DESIGN.md, interfaces). Sweeps, the main job and the report iterate over `CONTROLLERS`.
+"""The controller registry: a controller is a (planner, stabilizer, whole-body layer) triple
+with a name (DESIGN.md, interfaces). Sweeps, the main job and the report iterate over
+`CONTROLLERS`.
 
-A pair is named "<planner>+<stabilizer>". The registered pairs are the ones the papers
-compare; any other combination of a registered planner and a registered stabilizer can still
-be named the same way in a sweep spec (`controller_spec` builds it on the fly).
+A triple is named "<planner>+<stabilizer>" when its whole-body layer is the default
+(`ik_feedforward`), else "<planner>+<stabilizer>+<whole-body layer>". The registered triples
+are the ones the papers compare; any other combination of registered parts can still be named
+the same way in a sweep spec (`controller_spec` builds it on the fly).
 """
 
 from __future__ import annotations
@@ -12,6 +14,7 @@ from dataclasses import dataclass
 
 from planners.base import PLANNERS
 from stabilizers.base import STABILIZERS
+from wholebody.base import DEFAULT_WHOLE_BODY, WHOLE_BODY_LAYERS
 
 
 @dataclass(frozen=True)
@@ -19,10 +22,12 @@ class ControllerSpec:
     planner: str
     stabilizer: str
     description: str = ""
+    whole_body: str = DEFAULT_WHOLE_BODY
 
     @property
     def name(self) -> str:
-        return f"{self.planner}+{self.stabilizer}"
+        pair = f"{self.planner}+{self.stabilizer}"
+        return pair if self.whole_body == DEFAULT_WHOLE_BODY else f"{pair}+{self.whole_body}"
 
 
 CONTROLLERS: dict[str, ControllerSpec] = {
@@ -47,15 +52,23 @@ CONTROLLERS: dict[str, ControllerSpec] = {
 
 
 def controller_spec(name: str) -> ControllerSpec:
-    """The registered pair `name`, or any "<planner>+<stabilizer>" of registered halves.
-    KeyError naming the valid choices otherwise."""
+    """The registered controller `name`, or any "<planner>+<stabilizer>[+<whole-body
+    layer>]" of registered parts. KeyError naming the valid choices otherwise."""
     if name in CONTROLLERS:
         return CONTROLLERS[name]
-    planner, plus, stabilizer = name.partition("+")
-    if plus and planner in PLANNERS.names() and stabilizer in STABILIZERS.names():
-        return ControllerSpec(planner, stabilizer, "unregistered combination")
+    parts = name.split("+")
+    if len(parts) == 2:
+        parts.append(DEFAULT_WHOLE_BODY)
+    if (
+        len(parts) == 3
+        and parts[0] in PLANNERS.names()
+        and parts[1] in STABILIZERS.names()
+        and parts[2] in WHOLE_BODY_LAYERS.names()
+    ):
+        return ControllerSpec(parts[0], parts[1], "unregistered combination", parts[2])
     raise KeyError(
         f"unknown controller {name!r}; choose one of: {', '.join(CONTROLLERS)} "
-        f"(or any <planner>+<stabilizer> with planners {', '.join(PLANNERS.names())} and "
-        f"stabilizers {', '.join(STABILIZERS.names())})"
+        f"(or any <planner>+<stabilizer>[+<whole-body layer>] with planners "
+        f"{', '.join(PLANNERS.names())}, stabilizers {', '.join(STABILIZERS.names())} and "
+        f"whole-body layers {', '.join(WHOLE_BODY_LAYERS.names())})"
     )

@@ -55,6 +55,7 @@ ROW_SCHEMA = pa.schema(
         ("controller", _STRING),
         ("planner", _STRING),
         ("stabilizer", _STRING),
+        ("whole_body", _STRING),
         ("sim", _STRING),
         ("scenario", _STRING),
         ("seed", _INT),
@@ -123,6 +124,7 @@ def summary_row(
     for key in (
         "planner",
         "stabilizer",
+        "whole_body",
         "sim",
         "scenario",
         "seed",
@@ -285,10 +287,6 @@ class ResultStore:
     def episode_files(self) -> list[Path]:
         return sorted(self.episodes_dir.glob("*.parquet")) if self.episodes_dir.exists() else []
 
-    def finished_ids(self) -> set[str]:
-        """The ids of the episode files present (valid or not)."""
-        return {path.stem for path in self.episode_files()}
-
     # ------------------------------------------------------------------------ the lock
     @contextlib.contextmanager
     def locked(self) -> Iterator[None]:
@@ -349,18 +347,29 @@ class ResultStore:
                     f"{self.root} holds {len(existing)} episodes but no sweep.json, so their "
                     "spec is unknown; --resume needs it (pass --overwrite to start again)"
                 )
-            if recorded is not None and recorded.get("digest") != digest:
+            if recorded is not None and recorded.get("digest") != digest:  # name the fields
                 fields = spec_differences(recorded["spec"], identity or spec)
                 raise ResultStoreError(
                     f"{self.root} holds the results of another spec (fields that differ: "
                     f"{', '.join(fields) or 'unknown'}); --resume needs the same spec"
                 )
             done = self._valid_ids(retry)
-        if overwrite:
-            self._move_aside()
-        self.episodes_dir.mkdir(parents=True, exist_ok=True)
-        self.traces_dir.mkdir(parents=True, exist_ok=True)
-        _atomic_write_text(self.record_path, json.dumps({"digest": digest, "spec": spec}, indent=2))
+        try:
+            for leftover in [*self.root.glob(".trash-*"), *self.root.glob("*/.*.tmp")]:
+                # a deletion or a write that a killed sweep left unfinished
+                if leftover.is_dir():
+                    shutil.rmtree(leftover, ignore_errors=True)
+                else:
+                    leftover.unlink(missing_ok=True)
+            if overwrite:
+                self._move_aside()
+            self.episodes_dir.mkdir(parents=True, exist_ok=True)
+            self.traces_dir.mkdir(parents=True, exist_ok=True)
+            _atomic_write_text(
+                self.record_path, json.dumps({"digest": digest, "spec": spec}, indent=2)
+            )
+        except OSError as exc:
+            raise ResultStoreError(_io_message(self.root, exc)) from exc
         return done
 
     def _valid_ids(self, retry: tuple[str, ...]) -> set[str]:
@@ -391,10 +400,14 @@ class ResultStore:
             os.replace(self.root / name, self.aside / name)
 
     def discard_aside(self) -> None:
-        """Delete the results that --overwrite moved aside (the new sweep has started)."""
-        if self.aside is not None:
-            shutil.rmtree(self.aside, ignore_errors=True)
-            self.aside = None
+        """Delete the results that --overwrite moved aside (the new sweep has started). They
+        are renamed to a .trash-* folder first, so that an interrupted deletion can never be
+        taken for results to restore."""
+        aside, self.aside = self.aside, None
+        if aside is not None:
+            trash = aside.with_name(aside.name.replace(".previous-", ".trash-", 1))
+            os.replace(aside, trash)
+            shutil.rmtree(trash, ignore_errors=True)
 
     def restore_aside(self) -> None:
         """Put back the results that --overwrite moved aside (the new sweep wrote nothing)."""
@@ -414,7 +427,14 @@ class ResultStore:
 
     # ------------------------------------------------------------------------ writing
     def write(self, row: dict[str, Any], trace: pd.DataFrame | None) -> None:
-        """Write the trace first, then the row: a row on disk means a finished episode."""
+        """Write the trace first, then the row: a row on disk means a finished episode.
+        ResultStoreError when the disk refuses (full, read-only, gone)."""
+        try:
+            self._write(row, trace)
+        except OSError as exc:
+            raise ResultStoreError(_io_message(self.root, exc)) from exc
+
+    def _write(self, row: dict[str, Any], trace: pd.DataFrame | None) -> None:
         episode_id = row["episode_id"]
         if trace is not None and len(trace):
             table = pa.Table.from_pandas(trace, preserve_index=False)
@@ -427,6 +447,12 @@ class ResultStore:
 
     def trace(self, episode_id: str) -> pd.DataFrame:
         return pq.read_table(self.traces_dir / f"{episode_id}.parquet").to_pandas()
+
+
+def _io_message(root: Path, exc: OSError) -> str:
+    """One line for a results directory that the disk refused."""
+    where = f" ({exc.filename})" if exc.filename else ""
+    return f"cannot write the results in {root}: {exc.strerror or exc}{where}"
 
 
 def spec_differences(recorded: dict[str, Any], current: dict[str, Any]) -> list[str]:

@@ -118,15 +118,35 @@ def progress_stage(code: float) -> str:
     return PROGRESS_STAGES[index] if 0 <= index < len(PROGRESS_STAGES) else "unknown"
 
 
+PR_SET_PDEATHSIG, PR_GET_PDEATHSIG = 1, 2  # linux/prctl.h
+
+
+def parent_death_signal() -> int:
+    """The signal this process gets when its parent dies (Linux prctl PR_GET_PDEATHSIG; 0:
+    none, or not Linux)."""
+    if not sys.platform.startswith("linux"):
+        return 0
+    value = ctypes.c_int(0)
+    ctypes.CDLL(None, use_errno=True).prctl(PR_GET_PDEATHSIG, ctypes.byref(value), 0, 0, 0)
+    return value.value
+
+
 def _die_with_parent(parent_pid: int) -> None:
-    """Make this process end when its parent does (see the module docstring)."""
+    """Make this process end when its parent does (see the module docstring): SIGKILL from
+    the kernel on Linux (it works while the worker hangs in C code holding the GIL), and a
+    watcher thread everywhere (which needs the GIL)."""
     if sys.platform.startswith("linux"):
-        with contextlib.suppress(OSError, AttributeError):
-            libc = ctypes.CDLL(None, use_errno=True)
-            pr_set_pdeathsig = 1
-            libc.prctl(pr_set_pdeathsig, signal.SIGKILL, 0, 0, 0)
+        libc = ctypes.CDLL(None, use_errno=True)
+        if libc.prctl(PR_SET_PDEATHSIG, signal.SIGKILL, 0, 0, 0) != 0:
+            error = ctypes.get_errno()
+            print(
+                f"centrobench worker: prctl(PR_SET_PDEATHSIG) failed: {os.strerror(error)}",
+                file=sys.stderr,
+            )
 
     def watch() -> None:
+        # the parent's SIGUSR1 asks the main thread for its stack: never this thread
+        signal.pthread_sigmask(signal.SIG_BLOCK, {signal.SIGUSR1})
         while os.getppid() == parent_pid:
             time.sleep(1.0)
         os._exit(1)
@@ -190,18 +210,34 @@ class _Worker:
             name=f"centrobench-worker-{number}",
             daemon=True,
         )
-        self.process.start()
+        # Ctrl-C reaches the whole process group: the worker ignores SIGINT from its first
+        # instruction (an ignored signal stays ignored across exec), so that none prints a
+        # KeyboardInterrupt while it imports; the parent alone handles it
+        try:
+            previous = signal.signal(signal.SIGINT, signal.SIG_IGN)
+        except ValueError:  # not the main thread: signals are the main thread's
+            previous = None
+        try:
+            self.process.start()
+        finally:
+            if previous is not None:
+                signal.signal(signal.SIGINT, previous)
         child.close()
         self.ready = False  # the worker has said it is ready (its imports are done)
         self.task: _Task | None = None
         self.task_id = -1
         self.started = 0.0
 
-    def send(self, task: _Task, task_id: int) -> None:
+    def send(self, task: _Task, task_id: int) -> bool:
+        """Give the worker `task`; False if its pipe is broken (it died while idle)."""
+        try:
+            self.conn.send((task_id, task.item))
+        except OSError:  # BrokenPipeError, ConnectionResetError
+            return False
         self.task, self.task_id, self.started = task, task_id, time.monotonic()
         self.progress[0] = self.progress[1] = 0.0
         task.attempts += 1
-        self.conn.send((task_id, task.item))
+        return True
 
     def stack(self) -> str:
         with contextlib.suppress(OSError):
@@ -286,7 +322,10 @@ class LocalExecutor:
                         self._pool.append(self._new_worker())
                     worker = self._pool[index]
                     if worker.ready and worker.task is None:
-                        worker.send(retry.popleft() if retry else pending.popleft(), next_id)
+                        task = retry.popleft() if retry else pending.popleft()
+                        if not worker.send(task, next_id):  # died idle: a fresh one next turn
+                            retry.appendleft(task)
+                            worker.ready = False
                         next_id += 1
                 ready = self._wait()
                 for index, worker in enumerate(self._pool):
@@ -337,7 +376,7 @@ class LocalExecutor:
         """Replace the dead worker at `index`; what happened to it, as a sentence. Raises
         RuntimeError when workers keep dying before they are given work (they cannot start)."""
         worker = self._pool[index]
-        worker.process.join(timeout=5)
+        worker.kill()  # closes its pipe and reaps it
         location = stack_location(worker.stack())
         where = f" (at {location})" if location else ""
         if worker.task is None:

@@ -22,14 +22,14 @@ from bench.provenance import provenance
 from bench.scenarios import make_scenario
 from centroidal.rotations import to_matrix
 from centroidal.support import margin_inside, support_halfplanes, surface_vertices_world
+from estimators.base import make_estimator
 from planners.base import planner_spec
-from robots.estimators import make_estimator
 from robots.humanoid import humanoid
 from robots.model import RobotModel
 from robots.types import CentroidalPlan, JointCommand, WholeBodyTargets
-from robots.whole_body import WholeBodyLayer
 from sims.base import make_simulator
 from stabilizers.base import stabilizer_spec
+from wholebody.base import DEFAULT_WHOLE_BODY, make_whole_body
 
 STAGES = ("estimator", "planner", "stabilizer", "whole_body", "sim")
 # codes of the stage an episode is in, as written to a progress probe (see `run_episode`)
@@ -56,6 +56,7 @@ class EpisodeSpec:
     push_time: float | None = None  # [s], stand_push only
     push_step: int | None = None  # walk_push only: the single-support phase pushed
     friction: float | None = None  # None: the scenario's
+    whole_body: str = DEFAULT_WHOLE_BODY  # the whole-body layer (`wholebody.base`)
 
 
 @dataclass
@@ -187,6 +188,7 @@ def run_episode(spec: EpisodeSpec, progress: MutableSequence[float] | None = Non
         "scenario": spec.scenario,
         "seed": spec.seed,
         "estimator": spec.estimator,
+        "whole_body": spec.whole_body,
         "scale": spec.scale,
         "friction": spec.friction,
         "mass_kg": None,
@@ -226,7 +228,7 @@ def run_episode(spec: EpisodeSpec, progress: MutableSequence[float] | None = Non
         planner = planner_spec(spec.planner).factory(dt)
         stabilizer = stabilizer_spec(spec.stabilizer).factory(dt)
         estimator = make_estimator(spec.estimator, model)
-        whole_body = WholeBodyLayer(model, dt)
+        whole_body = make_whole_body(spec.whole_body, model, dt)
         sim = make_simulator(spec.sim)
     except Exception as exc:  # bad spec: recorded, not raised
         summary.update(
@@ -248,7 +250,7 @@ def run_episode(spec: EpisodeSpec, progress: MutableSequence[float] | None = Non
         state = estimator.estimate(sensors)
         planner.reset(model, scenario, state)
         stabilizer.reset(model, scenario, state)
-        whole_body.reset(initial)
+        whole_body.reset(model, initial)
         for k in range(n_periods):
             t = k * dt
             progress[1] = t
@@ -277,7 +279,7 @@ def run_episode(spec: EpisodeSpec, progress: MutableSequence[float] | None = Non
             stage = "whole_body"
             progress[0] = 4.0
             start = time.perf_counter_ns()
-            command = whole_body.command(targets)
+            command = whole_body.command(targets, state)
             timings["whole_body"] = time.perf_counter_ns() - start
             _check_command(command)
             stage = "sim"

@@ -49,7 +49,7 @@ def run_one(episode: Episode) -> tuple[dict[str, Any], pd.DataFrame | None]:
 def _failure_row(episode: Episode, exc: BaseException) -> dict[str, Any]:
     run = asdict(episode.run)
     base = {k: run[k] for k in ("planner", "stabilizer", "sim", "scenario", "seed", "scale")}
-    base.update(estimator=run["estimator"], friction=run["friction"])
+    base.update(estimator=run["estimator"], friction=run["friction"], whole_body=run["whole_body"])
     if isinstance(exc, EpisodeTimeout):
         return failure_row(
             episode.labels(),
@@ -107,14 +107,15 @@ def run_sweep(
     progress: bool = True,
     work: Callable[[Episode], tuple[dict[str, Any], pd.DataFrame | None]] = run_one,
     retry_errors: bool = False,
-    on_start: Callable[[int, int], None] | None = None,
+    on_start: Callable[[int, int, list[str]], None] | None = None,
 ) -> pd.DataFrame:
     """Run `spec`'s episodes (with `resume`: only those not yet in `out`; with
     `retry_errors` also those that ended in an error or a timeout) and return every finished
     episode's row in `out`. KeyboardInterrupt or SIGTERM stops the workers; the finished
     episodes stay in `out`. Everything is checked before `out` is touched: ValueError for the
     arguments and the executor, `ResultStoreError` for the directory. `on_start(total,
-    to_run)` is called once they have passed, before the first episode runs."""
+    to_run, notes)` is called once they have passed, before the first episode runs (`notes`:
+    the corrupt episode files a resume moved aside)."""
     if resume and overwrite:
         raise ValueError("--resume and --overwrite exclude each other")
     if retry_errors and not resume:
@@ -126,24 +127,27 @@ def run_sweep(
     bar = None
     try:
         with store.locked(), _terminate_as_interrupt():
-            finished = store.prepare(
-                spec.to_dict(),
-                spec.digest(),
-                resume=resume,
-                overwrite=overwrite,
-                identity=spec.identity(),
-                retry=RETRIED_STATUSES if retry_errors else (),
-            )
             try:
+                finished = store.prepare(
+                    spec.to_dict(),
+                    spec.digest(),
+                    resume=resume,
+                    overwrite=overwrite,
+                    identity=spec.identity(),
+                    retry=RETRIED_STATUSES if retry_errors else (),
+                )
                 todo = [e for e in episodes if e.episode_id not in finished]
                 random.Random(0).shuffle(todo)  # costs mixed over the run: the ETA holds
                 # ... except that the longest episodes go first (a stable sort keeps the
                 # shuffle among equals): a long walk started last would leave workers idle.
                 todo.sort(key=_longest_first)
                 if on_start is not None:
-                    on_start(len(episodes), len(todo))
+                    notes = [f"{p.name} moved to corrupt/: {why}" for p, why in store.bad_files]
+                    on_start(len(episodes), len(todo), notes)
                 bar = _progress(len(episodes), len(episodes) - len(todo), progress)
-                _run_episodes(runner.map_unordered(work, todo, budget=_budget(spec)), store, bar)
+                results = runner.map_unordered(work, todo, budget=_budget(spec))
+                with contextlib.closing(results):  # its workers stop even on an exception
+                    _run_episodes(results, store, bar)
             except BaseException:
                 store.restore_aside()  # no-op once an episode was written
                 raise

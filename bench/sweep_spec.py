@@ -57,8 +57,9 @@ from bench.push_protocol import (
 )
 from bench.runner import EpisodeSpec
 from bench.scenarios import SCENARIOS
-from robots.estimators import ESTIMATORS
+from estimators.base import ESTIMATORS
 from sims.base import SIMULATORS
+from wholebody.base import DEFAULT_WHOLE_BODY
 
 
 class SpecError(ValueError):
@@ -147,6 +148,7 @@ class SweepSpec:
                             common = dict(
                                 planner=pair.planner,
                                 stabilizer=pair.stabilizer,
+                                whole_body=pair.whole_body,
                                 sim=sim,
                                 seed=seed,
                                 estimator=self.estimator,
@@ -173,8 +175,15 @@ class SweepSpec:
         return result
 
 
+# EpisodeSpec fields added after results were first published, with their defaults: left out
+# of an episode's id while at the default, so that earlier result directories keep their ids
+# (a resume of them runs nothing twice)
+LATER_FIELDS = {"whole_body": DEFAULT_WHOLE_BODY}
+
+
 def _episode(controller: str, run: EpisodeSpec, keep_trace: bool, **labels) -> Episode:
-    key = json.dumps({"controller": controller, **asdict(run), **labels}, sort_keys=True)
+    fields = {k: v for k, v in asdict(run).items() if k not in LATER_FIELDS or v != LATER_FIELDS[k]}
+    key = json.dumps({"controller": controller, **fields, **labels}, sort_keys=True)
     episode_id = hashlib.sha1(key.encode()).hexdigest()[:16]
     return Episode(episode_id, controller, run, keep_trace=keep_trace, **labels)
 
@@ -282,9 +291,10 @@ def spec_from_mapping(data: dict[str, Any]) -> SweepSpec:
         if not values:
             raise SpecError(f"sweep spec field {label!r} must not be empty")
     estimator = data.get("estimator", "ground_truth")
-    if not isinstance(estimator, str) or estimator not in ESTIMATORS:
+    if not isinstance(estimator, str) or estimator not in ESTIMATORS.names():
         raise SpecError(
-            f"sweep spec field 'estimator': unknown {estimator!r}; valid: {', '.join(ESTIMATORS)}"
+            f"sweep spec field 'estimator': unknown {estimator!r}; valid: "
+            + ", ".join(ESTIMATORS.names())
         )
     name = data.get("name", "sweep")
     if not isinstance(name, str) or not valid_name(name):

@@ -23,8 +23,10 @@ REQUIRED_COLUMNS = ("episode_id", "controller", "sim", "scenario", "status")
 
 def read_results(root: str | Path) -> tuple[pd.DataFrame, dict | None, list[str]]:
     """(episode rows, sweep.json record or None, notes on the files left out) of a result
-    directory. A file that is not readable Parquet or has no episode columns is left out
-    with a note, and so is a sweep.json that is not JSON; the report is built from the rest."""
+    directory. A file that is not readable Parquet, has no episode columns or is not the one
+    row of the episode it is named after is left out with a note (the rules of
+    `bench.dataset.read_episode_file`, which reports/ does not import), and so is a
+    sweep.json that is not JSON; the report is built from the rest."""
     root = Path(root)
     folder = root / "episodes"
     paths = sorted(folder.glob("*.parquet")) if folder.exists() else []
@@ -38,6 +40,10 @@ def read_results(root: str | Path) -> tuple[pd.DataFrame, dict | None, list[str]
         missing = [c for c in REQUIRED_COLUMNS if c not in frame.columns]
         if missing:
             notes.append(f"{path.name}: not an episode row (no {', '.join(missing)})")
+            continue
+        if len(frame) != 1 or frame["episode_id"].iloc[0] != path.stem:
+            # a copy ("x (1).parquet") or a merged file would count its episodes twice
+            notes.append(f"{path.name}: {len(frame)} rows, not the one row of episode {path.stem}")
             continue
         frames.append(frame)
     if not frames:

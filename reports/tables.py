@@ -59,7 +59,9 @@ def level_label(dv: float, impulse: float) -> str:
     return f"{dv:g} m/s ({impulse:.1f} N s)"
 
 
-JUDGED = ("ok", "fell")  # statuses that say whether a push was survived
+# statuses that say whether a push was survived (bench.dataset.JUDGED_STATUSES: reports/
+# reads result files only and imports nothing of bench/)
+JUDGED = ("ok", "fell")
 
 
 def survival_table(episodes: pd.DataFrame, phase: str = "standing") -> pd.DataFrame:

@@ -35,7 +35,7 @@ UNSTABLE_WARNINGS = (
     mujoco.mjtWarning.mjWARN_CONTACTFULL,
     mujoco.mjtWarning.mjWARN_CNSTRFULL,
 )
-_UNSTABLE_INDEX = [int(w) for w in UNSTABLE_WARNINGS]
+_UNSTABLE_INDEX = np.array([int(w) for w in UNSTABLE_WARNINGS])
 _last_warning: list[str] = [""]
 
 

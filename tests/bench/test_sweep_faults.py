@@ -24,7 +24,7 @@ import pandas as pd
 import pytest
 
 from bench import dataset
-from bench.dataset import ResultStore, ResultStoreError, read_episodes, spec_differences
+from bench.dataset import ResultStore, ResultStoreError, spec_differences
 from bench.executors import worker_progress
 from bench.sweep import run_one, run_sweep
 from bench.sweep_spec import spec_from_mapping
@@ -92,7 +92,8 @@ _TARGET_ENV = "CENTROBENCH_TEST_TARGET"
 
 
 def _is_target(episode) -> bool:
-    return episode.episode_id == os.environ[_TARGET_ENV]
+    """The episode named in the environment ("*": every episode)."""
+    return os.environ[_TARGET_ENV] in ("*", episode.episode_id)
 
 
 def hanging_work(episode):
@@ -112,6 +113,13 @@ def killed_work(episode):
     if _is_target(episode):
         os.kill(os.getpid(), signal.SIGKILL)
     return run_one(episode)
+
+
+def death_signal_work(_item) -> int:
+    """The signal this worker gets when its parent dies."""
+    from bench.executors import parent_death_signal
+
+    return parent_death_signal()
 
 
 # ------------------------------------------------------------------------------- tests
@@ -140,8 +148,9 @@ def test_hung_episode_is_a_timeout_row_with_its_stage_and_resume_reruns_it(
     assert pd.isna(row["survived"])  # a timeout says nothing about the controller
     others = frame[frame["episode_id"] != target.episode_id]
     assert set(others["status"]) == {"ok"}
-    assert not resume(out).eq(frame).empty  # plain resume: nothing missing, nothing rerun
-    assert (read_episodes(out)["status"] == "timeout").sum() == 1
+    files = {p.name: p.stat().st_mtime_ns for p in (out / "episodes").iterdir()}
+    pd.testing.assert_frame_equal(resume(out), frame)  # a plain resume: nothing is missing
+    assert {p.name: p.stat().st_mtime_ns for p in (out / "episodes").iterdir()} == files
     same_as_reference(resume(out, retry_errors=True), reference)
 
 
@@ -206,7 +215,7 @@ def test_full_results_disk_stops_the_sweep_and_resume_completes_it(
             written.append(path)
 
     monkeypatch.setattr(dataset, "_atomic_write_table", failing_write)
-    with pytest.raises(OSError, match="No space left"):
+    with pytest.raises(ResultStoreError, match=r"cannot write the results in .*No space left"):
         run_sweep(fault_spec(), out, workers=2, progress=False)
     assert len(list((out / "episodes").glob("*.parquet"))) == 2  # the finished ones stay
     assert not list((out / "episodes").glob(".*.tmp"))  # no half-written file left
@@ -214,9 +223,20 @@ def test_full_results_disk_stops_the_sweep_and_resume_completes_it(
     same_as_reference(resume(out), reference)
 
 
-def _children(pid: int) -> set[int]:
+def _workers(pid: int) -> set[int]:
+    """The sweep worker processes among `pid`'s children (not multiprocessing's resource
+    tracker)."""
     path = Path(f"/proc/{pid}/task/{pid}/children")
-    return {int(p) for p in path.read_text().split()} if path.exists() else set()
+    children = {int(p) for p in path.read_text().split()} if path.exists() else set()
+    result = set()
+    for child in children:
+        try:
+            command = Path(f"/proc/{child}/cmdline").read_bytes()
+        except FileNotFoundError:
+            continue
+        if b"spawn_main" in command:
+            result.add(child)
+    return result
 
 
 def _alive(pid: int) -> bool:
@@ -241,7 +261,7 @@ def test_killing_the_sweep_ends_its_workers_and_resume_completes_it(
     deadline = time.monotonic() + 120
     workers: set[int] = set()
     while time.monotonic() < deadline and process.poll() is None:
-        workers = _children(process.pid)
+        workers = _workers(process.pid)
         if len(workers) >= 2 and list((out / "episodes").glob("*.parquet")):
             break
         time.sleep(0.05)
@@ -310,7 +330,8 @@ def test_overwrite_keeps_the_results_when_the_rest_of_the_command_is_wrong(
 ):
     from bench.cli import main
 
-    pytest.importorskip("ray", reason="Ray is a dev dependency; reinstall with make")
+    if "--executor" in flags:
+        pytest.importorskip("ray", reason="Ray is a dev dependency; reinstall with make")
     out = tmp_path / "out"
     run_sweep(fault_spec(push=None, sims=["mujoco"]), out, workers=1, progress=False)
     before = {p.name: p.read_bytes() for p in (out / "episodes").iterdir()}
@@ -332,7 +353,7 @@ def test_overwrite_moves_old_results_aside_until_the_new_sweep_has_started(tmp_p
     old = run_sweep(fault_spec(push=None, sims=["mujoco"]), out, workers=1, progress=False)
     old_files = {p.name for p in (out / "episodes").iterdir()}
 
-    def interrupt(total: int, todo: int) -> None:  # stopped before any new episode ran
+    def interrupt(total: int, todo: int, notes: list[str]) -> None:  # before any new episode
         raise KeyboardInterrupt
 
     new_spec = fault_spec(push=None, sims=["pybullet"])
@@ -389,3 +410,56 @@ def test_out_that_is_a_file_is_refused_before_anything_runs(tmp_path: Path, caps
     err = capsys.readouterr().err.strip().splitlines()
     assert len(err) == 1, err
     assert "is a file, not a directory" in err[0]
+
+
+_HUNG_DRIVER = """
+import os, sys
+sys.path.insert(0, {root!r})
+from bench.sweep import run_sweep
+from tests.bench.test_sweep_faults import fault_spec, hanging_work
+os.environ["CENTROBENCH_TEST_TARGET"] = "*"
+run_sweep(fault_spec(**{budget!r}), {out!r}, workers=2, progress=False, work=hanging_work)
+"""
+
+
+@pytest.mark.skipif(not sys.platform.startswith("linux"), reason="PR_SET_PDEATHSIG, /proc")
+def test_workers_hung_in_c_die_with_their_killed_parent(tmp_path: Path):
+    """Both workers hang in C code that holds the GIL (their watcher threads cannot run), the
+    parent is SIGKILLed: only the kernel's parent-death signal can end them, and it does."""
+    budget = {"timeout_base_s": 600.0, "timeout_per_sim_s": 1.0}  # no timeout in this test
+    code = _HUNG_DRIVER.format(root=str(ROOT), budget=budget, out=str(tmp_path / "out"))
+    driver = subprocess.Popen([sys.executable, "-c", code], cwd=ROOT)
+    deadline = time.monotonic() + 120
+    workers: set[int] = set()
+    while time.monotonic() < deadline and driver.poll() is None:
+        workers = _workers(driver.pid)
+        if len(workers) == 2 and all(_hung(pid) for pid in workers):
+            break
+        time.sleep(0.1)
+    assert len(workers) == 2, "the driver should have started two workers"
+    driver.kill()
+    driver.wait(timeout=30)
+    end = time.monotonic() + 15
+    while time.monotonic() < end and any(_alive(pid) for pid in workers):
+        time.sleep(0.1)
+    assert not [pid for pid in workers if _alive(pid)], "hung workers outlived their parent"
+
+
+def _hung(pid: int) -> bool:
+    """The process is running (state R) and has used more than 1 s of CPU: in the hang."""
+    try:
+        fields = Path(f"/proc/{pid}/stat").read_text().rsplit(")", 1)[1].split()
+    except FileNotFoundError:
+        return False
+    ticks = int(fields[11]) + int(fields[12])  # utime + stime
+    return fields[0] == "R" and ticks > 3 * os.sysconf("SC_CLK_TCK")
+
+
+def test_workers_get_sigkill_when_their_parent_dies():
+    """The kernel's parent-death signal is set in every worker (what the test above relies
+    on when the watcher thread cannot run)."""
+    from bench.executors import LocalExecutor
+
+    results = list(LocalExecutor(workers=1).map_unordered(death_signal_work, [0]))
+    expected = signal.SIGKILL if sys.platform.startswith("linux") else 0
+    assert results == [(0, expected)]

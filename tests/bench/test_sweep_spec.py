@@ -236,3 +236,38 @@ def test_robot_is_at_rest_when_the_standing_push_starts(controller, sim):
     speed = np.linalg.norm(late[[f"com_velocity_actual_{a}" for a in "xyz"]].to_numpy(), axis=1)
     assert result.summary["status"] == "ok"
     assert speed.max() < 1e-3  # [m/s]
+
+
+def test_episode_ids_of_the_default_whole_body_layer_are_those_of_earlier_releases():
+    """Before whole-body layers were pluggable, an episode's id was the SHA-1 of its
+    controller, EpisodeSpec fields and labels; with the default layer it still is (results
+    of earlier sweeps resume), and another layer gives other ids."""
+    import hashlib
+    import json
+    from dataclasses import asdict
+
+    def earlier_id(episode) -> str:
+        fields = asdict(episode.run)
+        del fields["whole_body"]  # the field did not exist
+        labels = {
+            k: getattr(episode, k)
+            for k in ("push_phase", "push_dv_mps", "push_index")
+            if getattr(episode, k) is not None
+        }
+        key = json.dumps({"controller": episode.controller, **fields, **labels}, sort_keys=True)
+        return hashlib.sha1(key.encode()).hexdigest()[:16]
+
+    spec = spec_from_mapping(
+        {
+            "controllers": ["hold+posture", "hold+posture+ik"],
+            "sims": ["mujoco"],
+            "scenarios": ["stand"],
+            "push": {"dv": [0.2], "count": 2},
+        }
+    )
+    default = [e for e in spec.episodes() if e.controller == "hold+posture"]
+    other = [e for e in spec.episodes() if e.controller == "hold+posture+ik"]
+    assert len(default) == len(other) == 3
+    assert all(e.run.whole_body == "ik" for e in other)
+    assert [e.episode_id for e in default] == [earlier_id(e) for e in default]
+    assert not {e.episode_id for e in default} & {e.episode_id for e in other}

@@ -7,8 +7,8 @@ import numpy as np
 import pytest
 
 from bench.scenarios import make_scenario
+from estimators.ground_truth import GroundTruthEstimator
 from planners.preview_control import PreviewControlPlanner
-from robots.estimators import GroundTruthEstimator
 from robots.humanoid import humanoid
 from robots.model import RobotModel
 from sims.base import make_simulator

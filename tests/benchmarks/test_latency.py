@@ -10,14 +10,15 @@ import numpy as np
 import pytest
 
 from bench.scenarios import make_scenario
+from estimators.ground_truth import GroundTruthEstimator
+from estimators.proprioceptive import ProprioceptiveEstimator
 from planners.hold import HoldPlanner
-from robots.estimators import GroundTruthEstimator, ProprioceptiveEstimator
 from robots.humanoid import humanoid
-from robots.ik import WholeBodyIK
 from robots.model import RobotModel
-from robots.whole_body import WholeBodyLayer
 from sims.base import make_simulator
 from stabilizers.posture import PostureStabilizer
+from wholebody.ik import WholeBodyIK
+from wholebody.ik_feedforward import IkFeedforwardLayer
 
 pytestmark = pytest.mark.benchmark(group="stages", min_rounds=200, warmup=True)
 DT = 0.002
@@ -64,9 +65,9 @@ def test_ik(benchmark, setup, solver):
 
 
 def test_whole_body_layer(benchmark, setup):
-    layer = WholeBodyLayer(setup["model"], DT)
-    layer.reset(setup["initial"])
-    command = benchmark(layer.command, setup["targets"])
+    layer = IkFeedforwardLayer(setup["model"], DT)
+    layer.reset(setup["model"], setup["initial"])
+    command = benchmark(layer.command, setup["targets"], setup["initial"])
     assert np.all(np.isfinite(command.torque_feedforward))
 
 

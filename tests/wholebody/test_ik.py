@@ -9,9 +9,9 @@ import pytest
 
 from centroidal.rotations import from_matrix, log
 from robots.humanoid import humanoid
-from robots.ik import IKWeights, WholeBodyIK
 from robots.model import RobotModel
 from robots.types import RobotState, WholeBodyTargets
+from wholebody.ik import IKWeights, WholeBodyIK
 
 DT = 0.002
 

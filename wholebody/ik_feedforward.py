@@ -1,6 +1,6 @@
-"""The whole-body layer: `WholeBodyTargets` -> `JointCommand` (DESIGN.md, the loop).
+"""`ik_feedforward`: the default whole-body layer, `WholeBodyTargets` -> `JointCommand`.
 
-Joint position and velocity targets from the IK (`robots.ik`); feed-forward torques that hold
+Joint position and velocity targets from the IK (`wholebody.ik`); feed-forward torques that hold
 the IK's configuration against gravity with the contact limbs carrying the load:
 tau_ff = g_j(q) - J_c,j^T w, with w the desired contact wrenches if the stabilizer gives them
 (converted to world axes at each contact frame), else the least-norm static wrenches (as in
@@ -13,12 +13,15 @@ from __future__ import annotations
 import numpy as np
 import pinocchio as pin
 
-from robots.ik import IKWeights, WholeBodyIK
 from robots.model import RobotModel
 from robots.types import JointCommand, RobotState, WholeBodyTargets
+from wholebody.base import ComponentSpec, register
+from wholebody.ik import IKWeights, WholeBodyIK
 
 
-class WholeBodyLayer:
+class IkFeedforwardLayer:
+    name = "ik_feedforward"
+
     def __init__(
         self, model: RobotModel, dt: float, weights: IKWeights | None = None, solver: str = "daqp"
     ) -> None:
@@ -31,10 +34,10 @@ class WholeBodyLayer:
         self.kp = robot.array("kp")
         self.kd = robot.array("kd")
 
-    def reset(self, state: RobotState) -> None:
+    def reset(self, model: RobotModel, state: RobotState) -> None:
         self.ik.reset(state)
 
-    def command(self, targets: WholeBodyTargets) -> JointCommand:
+    def command(self, targets: WholeBodyTargets, state: RobotState) -> JointCommand:
         position, velocity = self.ik.solve(targets)
         return JointCommand(position, velocity, self._feedforward(targets), self.kp, self.kd)
 
@@ -69,3 +72,12 @@ class WholeBodyLayer:
         if targets.joint_torque is not None:
             torque += targets.joint_torque
         return torque
+
+
+register(
+    ComponentSpec(
+        "ik_feedforward",
+        IkFeedforwardLayer,
+        "IK joint targets plus feed-forward torques g(q) - J_c^T w^d (default)",
+    )
+)

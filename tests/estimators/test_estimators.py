@@ -4,7 +4,9 @@ measured ZMP against the CoM projection (at rest the ground reaction passes thro
 import numpy as np
 import pytest
 
-from robots.estimators import GroundTruthEstimator, ProprioceptiveEstimator, make_estimator
+from estimators.base import make_estimator
+from estimators.ground_truth import GroundTruthEstimator
+from estimators.proprioceptive import ProprioceptiveEstimator
 from robots.humanoid import humanoid
 from robots.model import RobotModel
 from robots.scene import Scene

@@ -1,89 +1,22 @@
-"""State estimators: `Sensors` -> `RobotState` with CoM, measured contact wrenches and ZMP.
-
-- `ground_truth`: base pose and twist from the simulator's ground truth.
-- `proprioceptive`: what a real robot knows. Base orientation from the IMU, base angular
-  velocity from the gyro, base position and linear velocity from stance-foot kinematics: a
-  foot whose force sensor carries more than `contact_threshold` of the weight is taken as
-  not moving; its world position is remembered when it lands (its anchor) and the base is
-  placed so that the foot is at its anchor (several stance feet: weighted by their vertical
-  forces); the base velocity makes the stance feet's velocity zero.
-
-Both compute the CoM and its velocity (pinocchio) and the measured ZMP on z = 0 from the force
-sensors of the limbs in contact.
+"""`proprioceptive`: what a real robot knows. Base orientation from the IMU, base angular
+velocity from the gyro, base position and linear velocity from stance-foot kinematics: a foot
+whose force sensor carries more than `contact_threshold` of the weight is taken as not moving;
+its world position is remembered when it lands (its anchor) and the base is placed so that the
+foot is at its anchor (several stance feet: weighted by their vertical forces); the base
+velocity makes the stance feet's velocity zero.
 """
 
 from __future__ import annotations
 
-from typing import Protocol
-
 import numpy as np
 import pinocchio as pin
 
-from centroidal.wrench import resultant_about_origin, zmp_on_plane
+from estimators.base import ComponentSpec, EstimatorBase, register
 from robots.model import RobotModel
 from robots.types import RobotState, Sensors
 
 
-class Estimator(Protocol):
-    name: str
-
-    def reset(self, initial: RobotState, sensors: Sensors) -> None: ...
-    def estimate(self, sensors: Sensors) -> RobotState: ...
-
-
-class _EstimatorBase:
-    name = "base"
-
-    def __init__(self, model: RobotModel) -> None:
-        self.robot_model = model
-        self.model = model.model
-        self.data = self.model.createData()
-        robot = model.robot
-        self.limb_frames = [model.frame_id[limb.contact_frame] for limb in robot.limbs]
-        self.foot_index = [k for k, limb in enumerate(robot.limbs) if limb.name.endswith("foot")]
-
-    def reset(self, initial: RobotState, sensors: Sensors) -> None:
-        """Start from the known initial state (the scenario's)."""
-
-    def _complete(self, state: RobotState, sensors: Sensors) -> RobotState:
-        """Add CoM, CoM velocity, measured wrenches, contact flags and ZMP to `state`."""
-        q = self.robot_model.configuration(state)
-        v = self.robot_model.velocity(state, q)
-        com = pin.centerOfMass(self.model, self.data, q, v).copy()
-        com_velocity = self.data.vcom[0].copy()
-        pin.updateFramePlacements(self.model, self.data)
-        flags = sensors.contact_flag_limb
-        touching = [k for k, flag in enumerate(flags.tolist()) if flag]
-        placements = [self.data.oMf[self.limb_frames[k]] for k in touching]
-        resultant = resultant_about_origin(
-            np.array([p.translation for p in placements]).reshape(-1, 3),
-            np.array([p.rotation for p in placements]).reshape(-1, 3, 3),
-            sensors.contact_wrench_limb[touching],
-        )
-        return RobotState(
-            state.base_position_world,
-            state.base_orientation_world,
-            state.base_linear_velocity_world,
-            state.base_angular_velocity_world,
-            state.joint_position,
-            state.joint_velocity,
-            time=sensors.time,
-            com_position_world=com,
-            com_velocity_world=com_velocity,
-            contact_wrench_limb=sensors.contact_wrench_limb,
-            contact_flag_limb=flags,
-            zmp_world=zmp_on_plane(resultant),
-        )
-
-
-class GroundTruthEstimator(_EstimatorBase):
-    name = "ground_truth"
-
-    def estimate(self, sensors: Sensors) -> RobotState:
-        return self._complete(sensors.ground_truth(), sensors)
-
-
-class ProprioceptiveEstimator(_EstimatorBase):
+class ProprioceptiveEstimator(EstimatorBase):
     name = "proprioceptive"
 
     def __init__(self, model: RobotModel, contact_threshold: float = 0.05) -> None:
@@ -162,11 +95,10 @@ class ProprioceptiveEstimator(_EstimatorBase):
         return self._complete(state, sensors)
 
 
-ESTIMATORS = {"ground_truth": GroundTruthEstimator, "proprioceptive": ProprioceptiveEstimator}
-
-
-def make_estimator(name: str, model: RobotModel) -> Estimator:
-    """An estimator by name; unknown names raise KeyError listing the known ones."""
-    if name not in ESTIMATORS:
-        raise KeyError(f"unknown estimator {name!r}; choose one of: {', '.join(ESTIMATORS)}")
-    return ESTIMATORS[name](model)
+register(
+    ComponentSpec(
+        "proprioceptive",
+        ProprioceptiveEstimator,
+        "IMU orientation and rate, stance-foot kinematics, force sensors",
+    )
+)

@@ -1,0 +1,42 @@
+"""`ik`: joint position and velocity targets from the IK only, no feed-forward torque, as on
+Murooka et al.'s robot: "the calculated joint angles are commanded to the low-level joint
+position PD controller" (Sec. V-A1). Servo gains are the description's, as for every layer.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from robots.model import RobotModel
+from robots.types import JointCommand, RobotState, WholeBodyTargets
+from wholebody.base import ComponentSpec, register
+from wholebody.ik import IKWeights, WholeBodyIK
+
+
+class IkLayer:
+    name = "ik"
+
+    def __init__(
+        self, model: RobotModel, dt: float, weights: IKWeights | None = None, solver: str = "daqp"
+    ) -> None:
+        self.ik = WholeBodyIK(model, dt, weights, solver)
+        robot = model.robot
+        self.kp = robot.array("kp")
+        self.kd = robot.array("kd")
+        self.zero_torque = np.zeros(robot.n_joints)
+
+    def reset(self, model: RobotModel, state: RobotState) -> None:
+        self.ik.reset(state)
+
+    def command(self, targets: WholeBodyTargets, state: RobotState) -> JointCommand:
+        position, velocity = self.ik.solve(targets)
+        return JointCommand(position, velocity, self.zero_torque, self.kp, self.kd)
+
+
+register(
+    ComponentSpec(
+        "ik",
+        IkLayer,
+        "IK joint targets to the position servos, no feed-forward torque (Murooka Sec. V-A1)",
+    )
+)
