@@ -26,6 +26,7 @@ from bench.limits import (
     MAX_PUSH_COUNT,
     MAX_PUSH_DV,
     MAX_PUSH_IMPULSE_NS,
+    MAX_WALK_SPEED,
     MAX_WORKERS,
     NAME_RULE,
     SCALE_RANGE,
@@ -262,6 +263,12 @@ def build_parser() -> argparse.ArgumentParser:
         help="push direction [deg], 0 = forward (+x), 90 = left (+y)",
     )
     run.add_argument(
+        "--speed",
+        type=_number("--speed", -MAX_WALK_SPEED, maximum=MAX_WALK_SPEED, unit="m/s"),
+        default=None,
+        help="forward speed [m/s] of walk and walk_push (default: their 0.139 m/s)",
+    )
+    run.add_argument(
         "--estimator", default="ground_truth", help="ground_truth (default) or proprioceptive"
     )
     run.add_argument(
@@ -395,6 +402,15 @@ def build_parser() -> argparse.ArgumentParser:
             f"friction coefficients in (0, {FRICTION_MAX:g}]",
         ),
         help=f"friction coefficients, at most {FRICTION_MAX:g}",
+    )
+    sweep.add_argument(
+        "--speeds",
+        type=_listed(
+            "--speeds",
+            _number("every --speeds value", -MAX_WALK_SPEED, maximum=MAX_WALK_SPEED, unit="m/s"),
+            f"forward speeds in [-{MAX_WALK_SPEED:g}, {MAX_WALK_SPEED:g}] m/s",
+        ),
+        help="forward speeds [m/s] of walk and walk_push",
     )
     sweep.add_argument(
         "--duration",
@@ -607,6 +623,12 @@ def _run(args: argparse.Namespace) -> int:
     ].takes_push:
         pushing = ", ".join(s.name for s in SCENARIOS.values() if s.takes_push)
         raise UsageError(f"scenario {args.scenario!r} takes no push; scenarios with one: {pushing}")
+    from bench.scenarios import WALKS_WITH_SPEED
+
+    if args.speed is not None and args.scenario not in WALKS_WITH_SPEED:
+        raise UsageError(
+            f"--speed is for the scenarios {', '.join(WALKS_WITH_SPEED)}, not {args.scenario!r}"
+        )
     if args.out:
         _output_file("--out", args.out, make_parents=True)  # write_trace makes the folders
     spec = EpisodeSpec(
@@ -620,6 +642,7 @@ def _run(args: argparse.Namespace) -> int:
         push_direction_deg=args.push_direction,
         estimator=args.estimator,
         whole_body=args.whole_body,
+        speed=args.speed,
     )
     result = run_episode(spec)
     summary = summary_json_ready(result.summary)
@@ -741,7 +764,16 @@ def _sweep_mapping(args: argparse.Namespace) -> dict:
     from bench.sweep_spec import read_spec_file
 
     data: dict = {} if args.spec is None else read_spec_file(args.spec)
-    for flag in ("controllers", "sims", "scenarios", "seeds", "scales", "frictions", "duration"):
+    for flag in (
+        "controllers",
+        "sims",
+        "scenarios",
+        "seeds",
+        "scales",
+        "frictions",
+        "duration",
+        "speeds",
+    ):
         value = getattr(args, flag)
         if value is not None:
             data[flag] = value

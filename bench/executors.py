@@ -229,13 +229,14 @@ class _Worker:
         self.started = 0.0
 
     def send(self, task: _Task, task_id: int) -> bool:
-        """Give the worker `task`; False if its pipe is broken (it died while idle)."""
+        """Give the worker `task`; False if its pipe is broken (it died while idle). The
+        progress slot is cleared before the task goes out: the worker may write it at once."""
+        self.progress[0] = self.progress[1] = 0.0
         try:
             self.conn.send((task_id, task.item))
         except OSError:  # BrokenPipeError, ConnectionResetError
             return False
         self.task, self.task_id, self.started = task, task_id, time.monotonic()
-        self.progress[0] = self.progress[1] = 0.0
         task.attempts += 1
         return True
 

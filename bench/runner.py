@@ -57,6 +57,7 @@ class EpisodeSpec:
     push_step: int | None = None  # walk_push only: the single-support phase pushed
     friction: float | None = None  # None: the scenario's
     whole_body: str = DEFAULT_WHOLE_BODY  # the whole-body layer (`wholebody.base`)
+    speed: float | None = None  # [m/s] forward speed of walk / walk_push (None: the default)
 
 
 @dataclass
@@ -191,6 +192,7 @@ def run_episode(spec: EpisodeSpec, progress: MutableSequence[float] | None = Non
         "whole_body": spec.whole_body,
         "scale": spec.scale,
         "friction": spec.friction,
+        "speed": spec.speed,
         "mass_kg": None,
         "status": "ok",
         "fell": False,
@@ -221,6 +223,7 @@ def run_episode(spec: EpisodeSpec, progress: MutableSequence[float] | None = Non
             spec.push_time,
             spec.push_step,
             spec.friction,
+            spec.speed,
         )
         scene = scenario.scene
         summary.update(friction=scene.friction, mass_kg=robot.total_mass)

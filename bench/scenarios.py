@@ -11,6 +11,11 @@
 - `walk_push`: `walk` with a lateral push to the torso in the middle of the 5th step's single
   support; impulse [N s] (default 10: the paper's pairs walk through it in both simulators,
   15 falls) and direction [deg] (default 90: to the left).
+- `walk_side`: 10 steps to the left, 0.05 m each, left foot first (`WALK_SIDE_GAIT`).
+
+Walks are built from a `GaitCommand` (forward and lateral step length or speed, step period,
+double-support ratio, swing height, steps, standing time before and after); `walk` and
+`walk_push` take a forward `speed` [m/s].
 """
 
 from __future__ import annotations
@@ -69,35 +74,84 @@ def stand_push(
     return Scenario("stand_push", duration, base.scene, base.phases, base.initial_posture, (push,))
 
 
+@dataclass(frozen=True)
+class GaitCommand:
+    """A walking command, in the units of the centrobench humanoid at scale 1 (lengths scale
+    with the robot, times with the square root of its scale: Froude similarity, like the joint
+    speed limits). Per step the walking path advances `step_length` forward and
+    `lateral_step` to the left [m] in its own frame; the swing foot lands at the path's new
+    pose, keeping its standing offset across the path. The first step goes from the standing
+    pose, the last brings the feet side by side (so the path makes steps - 1 advances).
+
+    `speed` [m/s] (forward) and `lateral_speed` [m/s] set the step lengths instead:
+    step_length = speed x step_period (`step_length_for`). Defaults: today's `walk`, 10 steps
+    of 0.125 m (footprints of one foot 0.25 m apart), 0.9 s per step with 15 % double
+    support, 0.05 m swing clearance, 1.0 s standing before and 1.5 s after; right foot first
+    unless the walk goes left (then the left foot leads, so that the feet never cross)."""
+
+    step_length: float = 0.125
+    lateral_step: float = 0.0
+    speed: float | None = None
+    lateral_speed: float | None = None
+    step_period: float = 0.9
+    double_support_ratio: float = 0.15
+    swing_height: float = 0.05
+    steps: int = WALK_STEPS
+    start_double_support: float = 1.0
+    end_double_support: float = 1.5
+
+    def step_length_for(self, scale: float) -> tuple[float, float]:
+        """(forward, lateral) advance of the path per step [m] at `scale`."""
+        period = self.step_period * np.sqrt(scale)
+        forward = self.speed * period if self.speed is not None else self.step_length * scale
+        lateral = (
+            self.lateral_speed * period
+            if self.lateral_speed is not None
+            else self.lateral_step * scale
+        )
+        return forward, lateral
+
+    def goal_offset(self, scale: float) -> np.ndarray:
+        """Where the walk ends relative to where it starts [m] (x forward, y left)."""
+        forward, lateral = self.step_length_for(scale)
+        return (self.steps - 1) * np.array([forward, lateral])
+
+
+DEFAULT_GAIT = GaitCommand()
+WALK_SIDE_GAIT = GaitCommand(step_length=0.0, lateral_step=0.05)
+
+
 def walk(
     model: RobotModel,
     duration: float | None = None,
-    steps: int = WALK_STEPS,
-    stride: float = 0.25,
-    step_period: float = 0.9,
-    double_support_ratio: float = 0.15,
-    swing_height: float = 0.05,
-    start_double_support: float = 1.0,
-    end_double_support: float = 1.5,
+    gait: GaitCommand = DEFAULT_GAIT,
+    name: str = "walk",
 ) -> Scenario:
+    """The contact sequence of `gait` (flat ground, straight: the path keeps its heading)."""
     scale = model.robot.scale
-    stride, swing_height = stride * scale, swing_height * scale
-    step_period *= np.sqrt(scale)  # Froude similarity, like the joint speed limits
+    forward, lateral = gait.step_length_for(scale)
+    swing_height = gait.swing_height * scale
+    step_period = gait.step_period * np.sqrt(scale)  # Froude similarity
+    steps = gait.steps
     start = {c.limb: c for c in _standing_contacts(model)}
     feet = {name: np.array(contact.position_world) for name, contact in start.items()}
-    double = double_support_ratio * step_period
+    double = gait.double_support_ratio * step_period
     single = step_period - double
+    first, second = ("left_foot", "right_foot") if lateral > 0 else ("right_foot", "left_foot")
     phases = []
-    t = start_double_support
+    t = gait.start_double_support
     phases.append(ContactPhase(0.0, t, tuple(start.values())))
     for k in range(1, steps + 1):
-        swing = "right_foot" if k % 2 else "left_foot"
-        support = "left_foot" if swing == "right_foot" else "right_foot"
+        swing = first if k % 2 else second
+        support = second if swing == first else first
         phases.append(ContactPhase(t, t + single, (Contact(support, tuple(feet[support])),)))
-        advance = stride / 2 if k in (1, steps) else stride
-        feet[swing] = feet[swing] + np.array([advance, 0.0, 0.0])
+        # the path advances one step per step but the last; a foot placed at step k moves by
+        # the path's advance since it was last placed: one step the first time, two after,
+        # one on the last step (for the default gait: 0.125, 0.25, ..., 0.125 m)
+        advances = 1 if k in (1, steps) else 2
+        feet[swing] = feet[swing] + _advance(forward, lateral, advances)
         t += single
-        end = t + (end_double_support if k == steps else double)
+        end = t + (gait.end_double_support if k == steps else double)
         both = (
             Contact("left_foot", tuple(feet["left_foot"])),
             Contact("right_foot", tuple(feet["right_foot"])),
@@ -108,13 +162,25 @@ def walk(
     if duration is not None and duration > t:  # stand on at the end
         phases[-1] = ContactPhase(phases[-1].start, duration, phases[-1].contacts)
     return Scenario(
-        "walk",
+        name,
         total,
         Scene(),
         tuple(phases),
         model.robot.nominal_posture,
         swing_height=swing_height,
     )
+
+
+def _advance(forward: float, lateral: float, steps: int) -> np.ndarray:
+    """A foot's displacement [m] over `steps` of the path's advances (the default walk's
+    stride / 2 and stride, computed as before: 0.25 / 2 and 0.25 at scale 1)."""
+    stride = 2 * forward
+    return np.array([stride / 2 if steps == 1 else stride, steps * lateral, 0.0])
+
+
+def walk_side(model: RobotModel, duration: float | None = None, **_: object) -> Scenario:
+    """`walk` with `WALK_SIDE_GAIT`: 10 steps to the left, 0.05 m each (0.45 m in all)."""
+    return walk(model, duration, WALK_SIDE_GAIT, name="walk_side")
 
 
 def walk_push(
@@ -124,8 +190,9 @@ def walk_push(
     push_direction_deg: float = 90.0,
     push_step: int = 5,
     push_duration: float = 0.1,
+    gait: GaitCommand = DEFAULT_GAIT,
 ) -> Scenario:
-    base = walk(model, duration)
+    base = walk(model, duration, gait)
     single = [p for p in base.phases if len(p.contacts) == 1]
     if not 1 <= push_step <= len(single):
         raise ValueError(f"push_step must be 1..{len(single)} (the walk's steps), got {push_step}")
@@ -154,7 +221,11 @@ SCENARIOS: dict[str, ScenarioSpec] = {
     "walk_push": ScenarioSpec(
         "walk_push", walk_push, "walk with a lateral push mid single support of step 5", True
     ),
+    "walk_side": ScenarioSpec(
+        "walk_side", walk_side, "10 steps to the left, 0.05 m each, left foot first"
+    ),
 }
+WALKS_WITH_SPEED = ("walk", "walk_push")  # the scenarios whose forward speed can be set
 
 
 def make_scenario(
@@ -166,11 +237,13 @@ def make_scenario(
     push_time: float | None = None,
     push_step: int | None = None,
     friction: float | None = None,
+    speed: float | None = None,
 ) -> Scenario:
     """Build scenario `name` for `model`. Raises KeyError for an unknown name (listing the known
     ones) and ValueError for bad parameters. `push_time` [s] applies to `stand_push`,
     `push_step` (the single-support phase pushed in the middle, from 1) to `walk_push`;
-    `friction` replaces the scene's Coulomb coefficient."""
+    `friction` replaces the scene's Coulomb coefficient; `speed` [m/s] is the forward speed of
+    `walk` and `walk_push` (`GaitCommand.speed`; None: their default step length)."""
     if name not in SCENARIOS:
         raise KeyError(f"unknown scenario {name!r}; choose one of: {', '.join(SCENARIOS)}")
     spec = SCENARIOS[name]
@@ -201,6 +274,12 @@ def make_scenario(
         if name != "walk_push":
             raise ValueError(f"push_step applies to walk_push, not to {name!r}")
         kwargs["push_step"] = push_step
+    if speed is not None:
+        if name not in WALKS_WITH_SPEED:
+            raise ValueError(f"speed applies to {', '.join(WALKS_WITH_SPEED)}, not to {name!r}")
+        if not np.isfinite(speed):
+            raise ValueError(f"speed must be a finite number of m/s, got {speed}")
+        kwargs["gait"] = GaitCommand(speed=float(speed))
     scenario = spec.build(model, **kwargs)
     if friction is not None:
         if not (np.isfinite(friction) and friction > 0):

@@ -49,7 +49,12 @@ def run_one(episode: Episode) -> tuple[dict[str, Any], pd.DataFrame | None]:
 def _failure_row(episode: Episode, exc: BaseException) -> dict[str, Any]:
     run = asdict(episode.run)
     base = {k: run[k] for k in ("planner", "stabilizer", "sim", "scenario", "seed", "scale")}
-    base.update(estimator=run["estimator"], friction=run["friction"], whole_body=run["whole_body"])
+    base.update(
+        estimator=run["estimator"],
+        friction=run["friction"],
+        whole_body=run["whole_body"],
+        speed=run["speed"],
+    )
     if isinstance(exc, EpisodeTimeout):
         return failure_row(
             episode.labels(),

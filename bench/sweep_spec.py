@@ -7,6 +7,7 @@ A spec (every field but `controllers` and `sims` optional)::
     controllers = ["preview_control+centroidal_feedback", "hold+posture"]   # or ["all"]
     sims = ["mujoco", "pybullet"]                                           # or ["all"]
     scenarios = ["walk"]        # episodes without a push, one per grid point
+    speeds = [0.1, 0.2]         # forward speeds [m/s] of walk / walk_push (default: their own)
     seeds = [0]
     scales = [1.0]              # robot length scale (mass with its cube)
     frictions = [0.6]           # Coulomb coefficient of every contact
@@ -41,6 +42,7 @@ from bench.limits import (
     FRICTION_MAX,
     MAX_EPISODE_SECONDS,
     MAX_EPISODES,
+    MAX_WALK_SPEED,
     NAME_RULE,
     SCALE_RANGE,
     SEED_LIMIT,
@@ -56,7 +58,7 @@ from bench.push_protocol import (
     walking_push_time,
 )
 from bench.runner import EpisodeSpec
-from bench.scenarios import SCENARIOS
+from bench.scenarios import SCENARIOS, WALKS_WITH_SPEED
 from estimators.base import ESTIMATORS
 from sims.base import SIMULATORS
 from wholebody.base import DEFAULT_WHOLE_BODY
@@ -108,6 +110,7 @@ class SweepSpec:
     traces: tuple[str, ...] = ("walk",)
     push: PushProtocol | None = None
     duration: float | None = None  # [s] override for the plain scenarios
+    speeds: tuple[float, ...] = ()  # [m/s] forward speeds of walk / walk_push; (): their own
     # wall-clock budget of an episode [s]: timeout_base_s + timeout_per_sim_s x simulated s.
     # How a sweep runs, not what it measures: left out of the digest (a resume may change it).
     timeout_base_s: float = 60.0
@@ -119,6 +122,8 @@ class SweepSpec:
         data.pop("extra")
         if self.push is None:
             data.pop("push")
+        if not self.speeds:  # as before speeds existed: earlier digests stay valid
+            data.pop("speeds")
         return data
 
     def identity(self) -> dict[str, Any]:
@@ -131,6 +136,10 @@ class SweepSpec:
 
     def digest(self) -> str:
         return hashlib.sha1(json.dumps(self.identity(), sort_keys=True).encode()).hexdigest()[:12]
+
+    def speeds_of(self, scenario: str) -> tuple[float | None, ...]:
+        """The forward speeds [m/s] a plain scenario runs at (None: its own)."""
+        return self.speeds if self.speeds and scenario in WALKS_WITH_SPEED else (None,)
 
     def wall_budget_s(self, simulated_s: float) -> float:
         """Wall-clock budget [s] of an episode of `simulated_s` simulated seconds."""
@@ -156,12 +165,15 @@ class SweepSpec:
                                 friction=friction,
                             )
                             for scenario in self.scenarios:
-                                run = EpisodeSpec(
-                                    scenario=scenario, duration=self.duration, **common
-                                )
-                                result.append(
-                                    _episode(controller, run, keep_trace=scenario in self.traces)
-                                )
+                                for speed in self.speeds_of(scenario):
+                                    run = EpisodeSpec(
+                                        scenario=scenario,
+                                        duration=self.duration,
+                                        speed=speed,
+                                        **common,
+                                    )
+                                    keep = scenario in self.traces
+                                    result.append(_episode(controller, run, keep_trace=keep))
                             if self.push is not None:
                                 for labels, run in push_episodes(self.push, common):
                                     result.append(
@@ -178,7 +190,7 @@ class SweepSpec:
 # EpisodeSpec fields added after results were first published, with their defaults: left out
 # of an episode's id while at the default, so that earlier result directories keep their ids
 # (a resume of them runs nothing twice)
-LATER_FIELDS = {"whole_body": DEFAULT_WHOLE_BODY}
+LATER_FIELDS = {"whole_body": DEFAULT_WHOLE_BODY, "speed": None}
 
 
 def _episode(controller: str, run: EpisodeSpec, keep_trace: bool, **labels) -> Episode:
@@ -202,6 +214,8 @@ _TOP_FIELDS = {
     "traces": "a list of scenario names",
     "duration": f"a number of seconds in [{CONTROL_PERIOD_S:g}, {MAX_EPISODE_SECONDS:g}]",
     "push": "a table (see bench.push_protocol)",
+    "speeds": f"a list of forward speeds in [-{MAX_WALK_SPEED:g}, {MAX_WALK_SPEED:g}] m/s "
+    f"(of {', '.join(WALKS_WITH_SPEED)})",
     "timeout_base_s": "a positive number of seconds (wall-clock budget of every episode)",
     "timeout_per_sim_s": "a positive number (wall-clock seconds per simulated second)",
 }
@@ -323,8 +337,20 @@ def spec_from_mapping(data: dict[str, Any]) -> SweepSpec:
             "sweep spec: no episodes; give 'scenarios' (one of: "
             f"{', '.join(SCENARIOS)}) or a 'push' table (phases: {', '.join(PHASES)})"
         )
+    speeds = tuple(
+        _in_range(f"speeds[{k}]", v, -MAX_WALK_SPEED, MAX_WALK_SPEED, unit="m/s")
+        for k, v in enumerate(_list("speeds", data, []))
+    )
+    if len(set(speeds)) != len(speeds):
+        raise SpecError(f"sweep spec field 'speeds' names a speed twice: {list(speeds)}")
+    if speeds and not set(scenarios) & set(WALKS_WITH_SPEED):
+        raise SpecError(
+            "sweep spec field 'speeds' applies to the scenarios "
+            f"{', '.join(WALKS_WITH_SPEED)}, and 'scenarios' has none of them"
+        )
     # the grid's size from its axes, before any episode is listed
-    per_point = len(scenarios) + (len(push.phases) * len(push.dv) * push.count if push else 0)
+    plain = sum(len(speeds) if speeds and s in WALKS_WITH_SPEED else 1 for s in scenarios)
+    per_point = plain + (len(push.phases) * len(push.dv) * push.count if push else 0)
     total = len(controllers) * len(sims) * len(scales) * len(frictions) * len(seeds) * per_point
     if total > MAX_EPISODES:
         raise SpecError(
@@ -346,6 +372,7 @@ def spec_from_mapping(data: dict[str, Any]) -> SweepSpec:
         traces=traces,
         push=push,
         duration=duration,
+        speeds=speeds,
         **timeouts,
     )
 

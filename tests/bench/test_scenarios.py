@@ -86,3 +86,76 @@ def test_swing_foot_lands_without_vertical_speed(model):
     assert height((start + end) / 2) == pytest.approx(0.05, abs=1e-12)
     assert abs(height(start + h) - height(start)) / h < 1e-4
     assert abs(height(end) - height(end - h)) / h < 1e-4
+
+
+def _footprints(scenario) -> dict[str, list[np.ndarray]]:
+    """Each foot's successive contact positions [m], in phase order, without repeats."""
+    prints: dict[str, list[np.ndarray]] = {"left_foot": [], "right_foot": []}
+    for phase in scenario.phases:
+        for contact in phase.contacts:
+            position = np.array(contact.position_world)
+            if not prints[contact.limb] or not np.array_equal(prints[contact.limb][-1], position):
+                prints[contact.limb].append(position)
+    return prints
+
+
+@pytest.mark.parametrize("speed", [0.1, 0.2, -0.1])
+def test_gait_speed_sets_the_step_length(model, speed):
+    """Forward speed v with step period T: the path advances v T per step, and the feet end
+    side by side (steps - 1) v T from where they started."""
+    from bench.scenarios import GaitCommand
+
+    scenario = make_scenario("walk", model, speed=speed)
+    start, end = scenario.phases[0], scenario.phases[-1]
+    gait = GaitCommand(speed=speed)
+    assert gait.step_length_for(1.0) == pytest.approx((speed * 0.9, 0.0))
+    for first, last in zip(start.contacts, end.contacts, strict=True):
+        assert first.limb == last.limb
+        travel = np.array(last.position_world) - np.array(first.position_world)
+        np.testing.assert_allclose(travel, [9 * speed * 0.9, 0.0, 0.0], atol=1e-12)
+    landings = [  # the swing foot's x where it lands, step by step
+        next(c for c in after.contacts if c.limb != during.limbs[0]).position_world[0]
+        for during, after in zip(scenario.phases[1::2], scenario.phases[2::2], strict=True)
+    ]
+    assert len(landings) == 10
+    np.testing.assert_allclose(np.diff(landings)[:-1], speed * 0.9, atol=1e-12)
+    assert landings[-1] == pytest.approx(landings[-2], abs=1e-12)  # side by side at the end
+
+
+def test_default_gait_is_the_walk_of_earlier_releases(model):
+    """`walk` as it was built before gait commands: right foot first, stride 0.25 m (the
+    first and last steps half), 0.9 s steps with 15 % double support, 1.0 s before, 1.5 s
+    after."""
+    scenario = make_scenario("walk", model)
+    single = [p for p in scenario.phases if len(p.contacts) == 1]
+    assert len(single) == 10
+    assert [p.limbs[0] for p in single[:2]] == ["left_foot", "right_foot"]  # right swings first
+    assert single[0].start == 1.0
+    assert single[0].end - single[0].start == pytest.approx(0.9 * 0.85)
+    assert scenario.duration == pytest.approx(1.0 + 10 * 0.9 * 0.85 + 9 * 0.9 * 0.15 + 1.5)
+    prints = _footprints(scenario)
+    right = [p[0] for p in prints["right_foot"]]  # swings on steps 1, 3, ..., 9
+    left = [p[0] for p in prints["left_foot"]]  # on steps 2, 4, ..., 10
+    assert np.diff(right).tolist() == [0.125, 0.25, 0.25, 0.25, 0.25]
+    assert np.diff(left).tolist() == [0.25, 0.25, 0.25, 0.25, 0.125]
+
+
+def test_walk_side_leads_with_the_left_foot_and_never_crosses(model):
+    scenario = make_scenario("walk_side", model)
+    single = [p for p in scenario.phases if len(p.contacts) == 1]
+    assert single[0].limbs == ("right_foot",)  # the left foot swings first
+    sole_width = 2 * model.robot.limb("left_foot").half_extents[1]
+    for phase in scenario.phases:
+        if len(phase.contacts) == 2:
+            feet = {c.limb: np.array(c.position_world) for c in phase.contacts}
+            assert feet["left_foot"][1] - feet["right_foot"][1] > sole_width  # a gap between
+            assert feet["left_foot"][0] == pytest.approx(feet["right_foot"][0], abs=1e-12)
+    end = {c.limb: c.position_world[1] for c in scenario.phases[-1].contacts}
+    start = {c.limb: c.position_world[1] for c in scenario.phases[0].contacts}
+    for limb in end:
+        assert end[limb] - start[limb] == pytest.approx(9 * 0.05, abs=1e-12)
+
+
+def test_speed_is_for_the_walks_only(model):
+    with pytest.raises(ValueError, match="speed applies to walk, walk_push"):
+        make_scenario("stand", model, speed=0.1)

@@ -125,7 +125,14 @@ def test_interrupted_sweep_keeps_finished_episodes_and_resume_completes_it(tmp_p
     spec = small_spec(count=5)
     total = len(spec.episodes())
     # the CLI's push table uses the protocol's defaults: rebuild the same spec to compare ids
-    process = subprocess.Popen(arguments, cwd=ROOT, start_new_session=True)
+    # Ctrl-C's default handling in the sweep, even where this suite runs as a background job
+    # (whose children start with SIGINT ignored, as the shell leaves background jobs)
+    process = subprocess.Popen(
+        arguments,
+        cwd=ROOT,
+        start_new_session=True,
+        preexec_fn=lambda: signal.signal(signal.SIGINT, signal.SIG_DFL),
+    )
     deadline = time.monotonic() + 120
     while time.monotonic() < deadline and process.poll() is None:
         if len(list((out / "episodes").glob("*.parquet"))) >= 2:

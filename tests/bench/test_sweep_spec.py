@@ -31,6 +31,9 @@ VALID = {"controllers": ["hold+posture"], "sims": ["mujoco"], "scenarios": ["sta
         ({"seeds": [0, 2**32]}, "seeds[1]", "an integer in [0, 4294967295], got 4294967296"),
         ({"duration": 0.001}, "duration", "a number in [0.002, 600] s, got 0.001"),
         ({"timeout_base_s": 0}, "timeout_base_s", "a number in (0, 86400] s, got 0"),
+        ({"speeds": [1.5]}, "speeds[0]", "a number in [-1, 1] m/s, got 1.5"),
+        ({"speeds": [0.1, 0.1]}, "speeds", "names a speed twice"),
+        ({"speeds": "fast"}, "speeds", "a list of forward speeds"),
         ({"timeout_base_s": 10**400}, "timeout_base_s", "a number in (0, 86400] s"),
         ({"timeout_per_sim_s": "10"}, "timeout_per_sim_s", "(0, 1000] s per simulated s"),
         ({"timeout_per_sim_s": float("nan")}, "timeout_per_sim_s", "got nan"),
@@ -248,7 +251,7 @@ def test_episode_ids_of_the_default_whole_body_layer_are_those_of_earlier_releas
 
     def earlier_id(episode) -> str:
         fields = asdict(episode.run)
-        del fields["whole_body"]  # the field did not exist
+        del fields["whole_body"], fields["speed"]  # the fields did not exist
         labels = {
             k: getattr(episode, k)
             for k in ("push_phase", "push_dv_mps", "push_index")
@@ -271,3 +274,25 @@ def test_episode_ids_of_the_default_whole_body_layer_are_those_of_earlier_releas
     assert all(e.run.whole_body == "ik" for e in other)
     assert [e.episode_id for e in default] == [earlier_id(e) for e in default]
     assert not {e.episode_id for e in default} & {e.episode_id for e in other}
+
+
+def test_speeds_multiply_the_walks_only():
+    spec = spec_from_mapping(
+        {
+            "controllers": ["hold+posture"],
+            "sims": ["mujoco"],
+            "scenarios": ["stand", "walk"],
+            "speeds": [0.1, 0.2],
+        }
+    )
+    runs = sorted((e.run.scenario, e.run.speed or 0.0) for e in spec.episodes())
+    assert runs == [("stand", 0.0), ("walk", 0.1), ("walk", 0.2)]
+    with pytest.raises(SpecError, match="'speeds' applies to the scenarios walk, walk_push"):
+        spec_from_mapping(
+            {
+                "controllers": ["hold+posture"],
+                "sims": ["mujoco"],
+                "scenarios": ["stand"],
+                "speeds": [0.1],
+            }
+        )
