@@ -650,11 +650,20 @@ def _run(args: argparse.Namespace) -> int:
     if args.out:
         from bench.results import write_trace
 
+        footsteps_path = footsteps_file(args.out)
         try:
             write_trace(result.trace, summary, args.out)
+            if result.footsteps is not None:
+                result.footsteps.to_parquet(footsteps_path, index=False)
         except OSError as exc:
             raise _write_failed("--out", args.out, exc) from None
     return 0 if summary["status"] != "error" else 1
+
+
+def footsteps_file(trace_path: str) -> str:
+    """Where `run --out FILE.parquet` writes the steps taken: FILE.footsteps.parquet."""
+    stem = trace_path.removesuffix(".parquet")
+    return f"{stem}.footsteps.parquet"
 
 
 def _print_summary(summary: dict, as_json: bool) -> None:

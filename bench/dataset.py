@@ -3,6 +3,7 @@
     DIR/sweep.json                      the spec (and its digest) the results belong to
     DIR/episodes/<episode_id>.parquet   one summary row per finished episode (`ROW_SCHEMA`)
     DIR/traces/<episode_id>.parquet     the per-period trace, for the episodes that keep one
+    DIR/traces/<episode_id>.footsteps.parquet   their steps taken (`bench.footsteps`)
     DIR/.lock                           held (flock) by the sweep writing into DIR
     DIR/corrupt/                        unreadable or foreign files found by a resume
     DIR/.previous-*/                    with --overwrite: the old results, until the new
@@ -92,6 +93,11 @@ ROW_SCHEMA = pa.schema(
         ("feedback_force_N", _FLOAT),
         ("feedback_moment_Nm", _FLOAT),
         ("walk_speed_mps", _FLOAT),
+        ("steps_taken", _INT),
+        ("mean_step_length_m", _FLOAT),
+        ("mean_step_duration_s", _FLOAT),
+        ("distance_walked_m", _FLOAT),
+        ("final_position_error_m", _FLOAT),
         ("e_com", _FLOAT),
         ("e_zmp", _FLOAT),
         ("e_velocity", _FLOAT),
@@ -145,6 +151,11 @@ def summary_row(
         "com_error_rms_m",
         "zmp_margin_min_m",
         "solver_failures",
+        "steps_taken",
+        "mean_step_length_m",
+        "mean_step_duration_s",
+        "distance_walked_m",
+        "final_position_error_m",
         "git_commit",
         "cpu",
     ):
@@ -428,16 +439,26 @@ class ResultStore:
         self.aside = None
 
     # ------------------------------------------------------------------------ writing
-    def write(self, row: dict[str, Any], trace: pd.DataFrame | None) -> None:
+    def write(
+        self,
+        row: dict[str, Any],
+        trace: pd.DataFrame | None,
+        footsteps: pd.DataFrame | None = None,
+    ) -> None:
         """Write the trace first, then the row: a row on disk means a finished episode.
         ResultStoreError when the disk refuses (full, read-only, gone)."""
         try:
-            self._write(row, trace)
+            self._write(row, trace, footsteps)
         except OSError as exc:
             raise ResultStoreError(_io_message(self.root, exc)) from exc
 
-    def _write(self, row: dict[str, Any], trace: pd.DataFrame | None) -> None:
+    def _write(
+        self, row: dict[str, Any], trace: pd.DataFrame | None, footsteps: pd.DataFrame | None
+    ) -> None:
         episode_id = row["episode_id"]
+        if trace is not None and len(trace) and footsteps is not None:
+            table = pa.Table.from_pandas(footsteps, preserve_index=False)
+            _atomic_write_table(table, self.traces_dir / f"{episode_id}.footsteps.parquet")
         if trace is not None and len(trace):
             table = pa.Table.from_pandas(trace, preserve_index=False)
             _atomic_write_table(table, self.traces_dir / f"{episode_id}.parquet")

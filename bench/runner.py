@@ -18,6 +18,7 @@ from dataclasses import dataclass, field
 import numpy as np
 import pandas as pd
 
+from bench.footsteps import FootstepRecorder, footstep_summary
 from bench.provenance import provenance
 from bench.scenarios import make_scenario
 from centroidal.rotations import to_matrix
@@ -64,6 +65,8 @@ class EpisodeSpec:
 class EpisodeResult:
     summary: dict
     trace: pd.DataFrame = field(repr=False)
+    footsteps: pd.DataFrame | None = field(default=None, repr=False)
+    """The steps taken (`bench.footsteps.FootstepRecorder.table`), None if none recorded."""
 
 
 class StageError(RuntimeError):
@@ -207,6 +210,11 @@ def run_episode(spec: EpisodeSpec, progress: MutableSequence[float] | None = Non
         "solver_failures": 0,
         "error": None,
         "error_stage": None,
+        "steps_taken": None,
+        "mean_step_length_m": None,
+        "mean_step_duration_s": None,
+        "distance_walked_m": None,
+        "final_position_error_m": None,
     }
     trace = _Trace(0, ())
     sim = None
@@ -244,6 +252,11 @@ def run_episode(spec: EpisodeSpec, progress: MutableSequence[float] | None = Non
     trace = _Trace(n_periods, robot.limb_names)
     pending = sorted(scenario.pushes, key=lambda p: p.time)
     support = _SupportPolygon(robot)
+    recorder = FootstepRecorder(
+        robot.limb_names,
+        tuple(k for k, limb in enumerate(robot.limbs) if limb.name.endswith("foot")),
+        lambda limb: _sole_pose(model, sim, limb),
+    )
     stage = "setup"
     wall_start = time.perf_counter()
     try:
@@ -292,6 +305,7 @@ def run_episode(spec: EpisodeSpec, progress: MutableSequence[float] | None = Non
             timings["sim"] = time.perf_counter_ns() - start
 
             summary["solver_failures"] = int(plan.solver_failures)
+            recorder.observe(t, state.contact_flag_limb.tolist())
             _record(trace, t, state, plan, targets, timings)
             trace.put("zmp_margin_m", support.margin(plan))
             trace.n += 1
@@ -325,8 +339,25 @@ def run_episode(spec: EpisodeSpec, progress: MutableSequence[float] | None = Non
     if len(frame):
         summary["projection_error"] = _projection_error(frame)
         summary["zmp_margin_min_m"] = float(frame["zmp_margin_m"].min())
+    footsteps = recorder.table()
+    com = frame[["com_actual_x", "com_actual_y"]].to_numpy() if len(frame) else None
+    summary.update(
+        footstep_summary(
+            footsteps,
+            None if com is None else com[0],
+            None if com is None else com[-1],
+            scenario.goal_offset_world,
+        )
+    )
     summary.update(provenance())
-    return EpisodeResult(summary, frame)
+    return EpisodeResult(summary, frame, footsteps)
+
+
+def _sole_pose(model: RobotModel, sim, limb: str) -> tuple[np.ndarray, float]:
+    """The world position [m] and yaw [rad] of `limb`'s contact frame now (ground truth)."""
+    frame = model.robot.limb(limb).contact_frame
+    position, rotation = model.frame_pose(sim.ground_truth(), frame)
+    return np.array(position, dtype=float), math.atan2(rotation[1, 0], rotation[0, 0])
 
 
 class _SupportPolygon:

@@ -168,6 +168,7 @@ def walk(
         tuple(phases),
         model.robot.nominal_posture,
         swing_height=swing_height,
+        goal_offset_world=tuple(float(v) for v in gait.goal_offset(scale)),
     )
 
 
@@ -209,6 +210,7 @@ def walk_push(
         base.initial_posture,
         (push,),
         base.swing_height,
+        base.goal_offset_world,
     )
 
 

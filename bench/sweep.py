@@ -36,14 +36,17 @@ from bench.runner import run_episode
 from bench.sweep_spec import Episode, SweepSpec
 
 
-def run_one(episode: Episode) -> tuple[dict[str, Any], pd.DataFrame | None]:
-    """Run one episode in this process: (summary row, trace or None). In a local worker the
-    episode publishes its stage and simulated time for the parent's timeout handling."""
+def run_one(episode: Episode) -> tuple[dict[str, Any], pd.DataFrame | None, pd.DataFrame | None]:
+    """Run one episode in this process: (summary row, trace or None, footsteps or None; both
+    only for the episodes that keep a trace). In a local worker the episode publishes its
+    stage and simulated time for the parent's timeout handling."""
     begin = time.perf_counter()
     result = run_episode(episode.run, progress=worker_progress())
     wall = time.perf_counter() - begin
     row = summary_row(episode.labels(), result.summary, result.trace, episode.run.duration, wall)
-    return row, (result.trace if episode.keep_trace else None)
+    if not episode.keep_trace:
+        return row, None, None
+    return row, result.trace, result.footsteps
 
 
 def _failure_row(episode: Episode, exc: BaseException) -> dict[str, Any]:
@@ -110,7 +113,7 @@ def run_sweep(
     resume: bool = False,
     overwrite: bool = False,
     progress: bool = True,
-    work: Callable[[Episode], tuple[dict[str, Any], pd.DataFrame | None]] = run_one,
+    work: Callable[[Episode], tuple] = run_one,
     retry_errors: bool = False,
     on_start: Callable[[int, int, list[str]], None] | None = None,
 ) -> pd.DataFrame:
@@ -169,10 +172,11 @@ def _run_episodes(results: Iterator[tuple[Episode, Any]], store: ResultStore, ba
     falls = errors = 0
     for episode, result in results:
         if isinstance(result, BaseException):
-            row, trace = _failure_row(episode, result), None
+            row, trace, footsteps = _failure_row(episode, result), None, None
         else:
-            row, trace = result
-        store.write(row, trace)
+            row, trace, *rest = result  # (row, trace[, footsteps])
+            footsteps = rest[0] if rest else None
+        store.write(row, trace, footsteps)
         store.discard_aside()  # the new sweep has started: the old results go
         falls += row["status"] == "fell"
         errors += row["status"] in RETRIED_STATUSES

@@ -100,6 +100,9 @@ class Scenario:
     pushes: tuple[PushEvent, ...] = ()
     swing_height: float = 0.05
     """Clearance [m] of a limb moving between two contacts (peak, at mid-swing)."""
+    goal_offset_world: tuple[float, float] | None = None
+    """Where a walk's gait command ends, relative to where it starts (x, y) [m]; None: no
+    walk."""
 
     def phase_at(self, time: float) -> ContactPhase:
         """The contact phase holding at `time` [s] (the last one after the end)."""

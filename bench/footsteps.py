@@ -1,0 +1,123 @@
+"""Footsteps taken, measured (DESIGN.md: "footsteps taken" is a measurement, not a copy of the
+plan): every lift-off and touchdown of a foot, from the simulator's contact flags, with the
+sole's pose at touchdown from the simulator's ground truth.
+
+A foot's contact flag chatters for a few milliseconds when it lands (measured: 2-8 ms of
+on/off at each touchdown in both simulators), so contact intervals are debounced: a gap
+shorter than `MIN_GAP_S` does not end a contact, and the touchdown is the first instant of the
+merged contact. The runner calls `FootstepRecorder.observe` every period (a comparison of
+the flags with the last ones; work only when they change) and `table` once at the end.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Callable
+
+import numpy as np
+import pandas as pd
+
+MIN_GAP_S = 0.02  # [s] shorter loss of contact: chatter, not a lift-off
+COLUMNS = (
+    "limb",
+    "liftoff_time_s",
+    "touchdown_time_s",
+    "x_m",
+    "y_m",
+    "z_m",
+    "yaw_rad",
+    "swing_length_m",
+)
+
+
+class FootstepRecorder:
+    """Raw contact changes of the feet, with the sole pose at every raw touchdown.
+
+    `pose_of(limb)` returns the limb's contact frame position (3,) [m] and yaw [rad] in the
+    world now (the simulator's ground truth); it is called only when a foot's flag rises."""
+
+    def __init__(
+        self,
+        limbs: tuple[str, ...],
+        feet: tuple[int, ...],
+        pose_of: Callable[[str], tuple[np.ndarray, float]],
+    ) -> None:
+        self.limbs, self.feet, self.pose_of = limbs, feet, pose_of
+        self.last: list[bool] | None = None
+        self.events: list[tuple[float, int, bool, np.ndarray | None, float]] = []
+        self.initial: dict[int, tuple[np.ndarray, float]] = {}
+
+    def observe(self, t: float, flags: list[bool]) -> None:
+        """The contact flags (one per limb) at time t [s]."""
+        if flags == self.last:
+            return
+        for k in self.feet:
+            now = flags[k]
+            if self.last is None:
+                if now:
+                    self.initial[k] = self.pose_of(self.limbs[k])
+                continue
+            if now != self.last[k]:
+                pose = self.pose_of(self.limbs[k]) if now else (None, math.nan)
+                self.events.append((t, k, now, pose[0], pose[1]))
+        self.last = list(flags)
+
+    def table(self) -> pd.DataFrame:
+        """One row per step taken (a lift-off followed by a touchdown, after debouncing):
+        limb, lift-off and touchdown times [s], sole position [m] and yaw [rad] at touchdown,
+        and the swing's horizontal length [m] (from where the foot stood before)."""
+        rows = []
+        for k in self.feet:
+            events = [e for e in self.events if e[1] == k]
+            standing = self.initial.get(k)
+            where = None if standing is None else standing[0]
+            liftoff = None
+            index = 0
+            while index < len(events):
+                t, _, down, position, yaw = events[index]
+                if not down:
+                    # a gap shorter than MIN_GAP_S followed by a touchdown: chatter
+                    following = events[index + 1] if index + 1 < len(events) else None
+                    if following is not None and following[0] - t < MIN_GAP_S:
+                        index += 2
+                        continue
+                    liftoff = t
+                elif liftoff is None:
+                    if where is None:  # the foot's first contact: where it stands
+                        where = position
+                else:
+                    length = (
+                        math.nan if where is None else float(np.hypot(*(position[:2] - where[:2])))  # type: ignore[index]
+                    )
+                    rows.append((self.limbs[k], liftoff, t, *position, yaw, length))  # type: ignore[misc]
+                    where, liftoff = position, None
+                index += 1
+        frame = pd.DataFrame(rows, columns=list(COLUMNS))
+        return frame.sort_values("touchdown_time_s", ignore_index=True)
+
+
+def footstep_summary(
+    steps: pd.DataFrame,
+    com_start_world: np.ndarray | None,
+    com_end_world: np.ndarray | None,
+    goal_offset_world: tuple[float, float] | None,
+) -> dict[str, float | int | None]:
+    """The summary's footstep fields: steps taken, mean swing length [m], mean time between
+    successive touchdowns [s], horizontal distance the CoM walked [m], and its final
+    horizontal distance from the gait command's goal (start + the command's offset) [m]."""
+    touchdowns = steps["touchdown_time_s"].to_numpy()
+    result: dict[str, float | int | None] = {
+        "steps_taken": len(steps),
+        "mean_step_length_m": float(steps["swing_length_m"].mean()) if len(steps) else None,
+        "mean_step_duration_s": float(np.diff(touchdowns).mean()) if len(steps) > 1 else None,
+        "distance_walked_m": None,
+        "final_position_error_m": None,
+    }
+    if com_start_world is not None and com_end_world is not None:
+        travel = np.asarray(com_end_world[:2]) - np.asarray(com_start_world[:2])
+        result["distance_walked_m"] = float(np.hypot(*travel))
+        if goal_offset_world is not None:
+            result["final_position_error_m"] = float(
+                np.hypot(*(travel - np.asarray(goal_offset_world)))
+            )
+    return result

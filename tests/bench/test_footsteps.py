@@ -1,0 +1,113 @@
+"""Footsteps taken, measured: debouncing of contact chatter, the sole pose at touchdown, the
+summary fields, and a walk's steps in both simulators."""
+
+import numpy as np
+import pytest
+
+from bench.footsteps import FootstepRecorder, footstep_summary
+from bench.runner import EpisodeSpec, run_episode
+
+LIMBS = ("left_foot", "right_foot", "left_hand", "right_hand")
+
+
+def _recorder(positions: dict[str, list[tuple[float, float]]]):
+    """A recorder whose `pose_of` returns each limb's next listed (x, y) and yaw x / 10."""
+    queues = {limb: list(values) for limb, values in positions.items()}
+
+    def pose_of(limb: str):
+        x, y = queues[limb].pop(0)
+        return np.array([x, y, 0.0]), x / 10
+
+    return FootstepRecorder(LIMBS, (0, 1), pose_of)
+
+
+def _flags(left: bool, right: bool) -> list[bool]:
+    return [left, right, False, False]
+
+
+def test_chatter_is_one_touchdown_and_the_first_contact_counts():
+    recorder = _recorder(
+        {
+            "left_foot": [(0.0, 0.1), (0.25, 0.1)],
+            "right_foot": [(0.0, -0.1), (0.125, -0.1), (0.126, -0.1), (0.127, -0.1)],
+        }
+    )
+    sequence = [
+        (0.0, _flags(True, True)),
+        (1.0, _flags(True, False)),  # right lifts off
+        (1.770, _flags(True, True)),  # right lands ...
+        (1.772, _flags(True, False)),  # ... chatters for 2 ms ...
+        (1.774, _flags(True, True)),
+        (1.780, _flags(True, False)),  # ... and 6 ms
+        (1.786, _flags(True, True)),
+        (1.9, _flags(False, True)),  # left lifts off
+        (2.66, _flags(True, True)),  # and lands
+        (3.0, _flags(True, False)),  # right lifts off and is still in the air at the end
+    ]
+    for t, flags in sequence:
+        recorder.observe(t, flags)
+        recorder.observe(t + 0.001, flags)  # unchanged flags: nothing recorded
+    steps = recorder.table()
+    assert steps["limb"].tolist() == ["right_foot", "left_foot"]
+    assert steps["liftoff_time_s"].tolist() == [1.0, 1.9]
+    assert steps["touchdown_time_s"].tolist() == [1.770, 2.66]
+    assert steps["x_m"].tolist() == [0.125, 0.25]  # the pose at the first contact
+    assert steps["yaw_rad"].tolist() == pytest.approx([0.0125, 0.025])
+    assert steps["swing_length_m"].tolist() == pytest.approx([0.125, 0.25])
+
+
+def test_a_foot_that_lands_after_the_first_period_stands_where_it_landed():
+    recorder = _recorder({"left_foot": [(0.0, 0.1), (0.3, 0.1)], "right_foot": []})
+    recorder.observe(0.0, _flags(False, False))
+    recorder.observe(0.002, _flags(True, False))  # settles onto the ground
+    recorder.observe(1.0, _flags(False, False))
+    recorder.observe(1.8, _flags(True, False))
+    steps = recorder.table()
+    assert steps["swing_length_m"].tolist() == pytest.approx([0.3])
+
+
+def test_summary_of_steps_and_goal():
+    recorder = _recorder({"left_foot": [(0.0, 0.1), (0.25, 0.1)], "right_foot": [(0.0, -0.1)]})
+    for t, flags in [
+        (0.0, _flags(True, True)),
+        (1.0, _flags(False, True)),
+        (1.9, _flags(True, True)),
+    ]:
+        recorder.observe(t, flags)
+    summary = footstep_summary(
+        recorder.table(), np.array([0.0, 0.0]), np.array([0.3, 0.4]), (0.3, 0.0)
+    )
+    assert summary["steps_taken"] == 1
+    assert summary["mean_step_length_m"] == pytest.approx(0.25)
+    assert summary["mean_step_duration_s"] is None  # one touchdown: no interval
+    assert summary["distance_walked_m"] == pytest.approx(0.5)
+    assert summary["final_position_error_m"] == pytest.approx(0.4)
+
+
+@pytest.mark.parametrize("sim", ["mujoco", "pybullet"])
+def test_a_walk_takes_its_ten_steps_and_ends_at_its_goal(sim):
+    """preview_control + centroidal_feedback on `walk`: the ten steps alternate from the right
+    foot, and the CoM ends within 5 cm of the gait command's goal (1.125 m ahead)."""
+    result = run_episode(
+        EpisodeSpec(
+            planner="preview_control", stabilizer="centroidal_feedback", sim=sim, scenario="walk"
+        )
+    )
+    summary, steps = result.summary, result.footsteps
+    assert summary["status"] == "ok", summary["error"]
+    assert summary["steps_taken"] == 10
+    assert steps["limb"].tolist() == ["right_foot", "left_foot"] * 5
+    assert (steps["touchdown_time_s"] > steps["liftoff_time_s"]).all()
+    assert summary["final_position_error_m"] < 0.05
+    assert summary["distance_walked_m"] == pytest.approx(1.125, abs=0.05)
+
+
+def test_standing_takes_no_step_and_has_no_goal():
+    result = run_episode(
+        EpisodeSpec(
+            planner="hold", stabilizer="posture", sim="mujoco", scenario="stand", duration=0.5
+        )
+    )
+    assert result.summary["steps_taken"] == 0
+    assert result.summary["final_position_error_m"] is None
+    assert result.summary["distance_walked_m"] < 0.001
