@@ -623,8 +623,14 @@ def _run(args: argparse.Namespace) -> int:
     ].takes_push:
         pushing = ", ".join(s.name for s in SCENARIOS.values() if s.takes_push)
         raise UsageError(f"scenario {args.scenario!r} takes no push; scenarios with one: {pushing}")
+    from bench.controllers import ControllerSpec, refusal
     from bench.scenarios import WALKS_WITH_SPEED
 
+    reason = refusal(
+        ControllerSpec(args.planner, args.stabilizer, whole_body=args.whole_body), args.scenario
+    )
+    if reason is not None:
+        raise UsageError(reason)
     if args.speed is not None and args.scenario not in WALKS_WITH_SPEED:
         raise UsageError(
             f"--speed is for the scenarios {', '.join(WALKS_WITH_SPEED)}, not {args.scenario!r}"
@@ -708,7 +714,8 @@ def _list(args: argparse.Namespace) -> int:
     for name, spec in CONTROLLERS.items():
         print(
             f"  {name}\n      ({spec.planner}, {spec.stabilizer}, {spec.whole_body}) "
-            f"{spec.description}".rstrip()
+            f"{spec.description}\n      can: {', '.join(sorted(spec.can))}"
+            + (f"; needs: {', '.join(sorted(spec.needs))}" if spec.needs else "")
         )
     sections = {
         "planners": described(PLANNERS),

@@ -12,8 +12,9 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
-from planners.base import PLANNERS
-from stabilizers.base import STABILIZERS
+from planners.base import PLANNERS, planner_spec
+from robots.registry import CAPABILITIES
+from stabilizers.base import STABILIZERS, stabilizer_spec
 from wholebody.base import DEFAULT_WHOLE_BODY, WHOLE_BODY_LAYERS
 
 
@@ -23,6 +24,17 @@ class ControllerSpec:
     stabilizer: str
     description: str = ""
     whole_body: str = DEFAULT_WHOLE_BODY
+
+    @property
+    def can(self) -> frozenset[str]:
+        """What the controller can do (`robots.registry.CAPABILITIES`): what both its planner
+        and its stabilizer can."""
+        return planner_spec(self.planner).can & stabilizer_spec(self.stabilizer).can
+
+    @property
+    def needs(self) -> frozenset[str]:
+        """What it needs of the robot (`robots.registry.NEEDS`): what either part needs."""
+        return planner_spec(self.planner).needs | stabilizer_spec(self.stabilizer).needs
 
     @property
     def name(self) -> str:
@@ -71,4 +83,19 @@ def controller_spec(name: str) -> ControllerSpec:
         f"(or any <planner>+<stabilizer>[+<whole-body layer>] with planners "
         f"{', '.join(PLANNERS.names())}, stabilizers {', '.join(STABILIZERS.names())} and "
         f"whole-body layers {', '.join(WHOLE_BODY_LAYERS.names())})"
+    )
+
+
+def refusal(controller: ControllerSpec, scenario: str) -> str | None:
+    """Why `controller` cannot run `scenario` (one line), or None if it can: the scenario asks
+    for something neither its planner nor its stabilizer declares (`ScenarioSpec.requires`
+    against `ControllerSpec.can`)."""
+    from bench.scenarios import SCENARIOS
+
+    missing = sorted(SCENARIOS[scenario].requires - controller.can)
+    if not missing:
+        return None
+    return (
+        f"{controller.name} cannot do {', '.join(missing)} "
+        f"({'; '.join(CAPABILITIES[m] for m in missing)}), which {scenario} needs"
     )

@@ -26,6 +26,7 @@ from dataclasses import dataclass, replace
 import numpy as np
 
 from robots.model import RobotModel
+from robots.registry import FLAT_GROUND
 from robots.scene import Contact, ContactPhase, PushEvent, Scenario, Scene
 
 WALK_STEPS = 10  # steps of `walk` (and so the single-support phases `walk_push` can push in)
@@ -37,6 +38,7 @@ class ScenarioSpec:
     build: Callable[..., Scenario]
     description: str
     takes_push: bool = False
+    requires: frozenset[str] = FLAT_GROUND  # what a controller must be able to do
 
 
 def _standing_contacts(model: RobotModel) -> tuple[Contact, ...]:

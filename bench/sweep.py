@@ -58,6 +58,8 @@ def _failure_row(episode: Episode, exc: BaseException) -> dict[str, Any]:
         whole_body=run["whole_body"],
         speed=run["speed"],
     )
+    if isinstance(exc, NotApplicable):
+        return failure_row(episode.labels(), base, f"n/a: {exc}", status="n/a")
     if isinstance(exc, EpisodeTimeout):
         return failure_row(
             episode.labels(),
@@ -68,6 +70,11 @@ def _failure_row(episode: Episode, exc: BaseException) -> dict[str, Any]:
             duration=exc.sim_time_s,
         )
     return failure_row(episode.labels(), base, f"{type(exc).__name__}: {exc}")
+
+
+class NotApplicable(Exception):
+    """The controller cannot run the scenario (`bench.controllers.refusal`): recorded as an
+    "n/a" row with the reason, never run."""
 
 
 @functools.cache
@@ -145,6 +152,10 @@ def run_sweep(
                     retry=RETRIED_STATUSES if retry_errors else (),
                 )
                 todo = [e for e in episodes if e.episode_id not in finished]
+                for episode in [e for e in todo if e.refused is not None]:  # not run: n/a
+                    store.write(_failure_row(episode, NotApplicable(episode.refused)), None)
+                    store.discard_aside()
+                todo = [e for e in todo if e.refused is None]
                 random.Random(0).shuffle(todo)  # costs mixed over the run: the ETA holds
                 # ... except that the longest episodes go first (a stable sort keeps the
                 # shuffle among equals): a long walk started last would leave workers idle.

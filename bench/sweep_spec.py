@@ -29,6 +29,7 @@ levels and counts, the number of episodes) and the rule for `name` are in `bench
 
 from __future__ import annotations
 
+import functools
 import hashlib
 import json
 import tomllib
@@ -36,7 +37,7 @@ from dataclasses import asdict, dataclass, field
 from pathlib import Path
 from typing import Any
 
-from bench.controllers import CONTROLLERS, controller_spec
+from bench.controllers import CONTROLLERS, controller_spec, refusal
 from bench.limits import (
     CONTROL_PERIOD_S,
     FRICTION_MAX,
@@ -79,6 +80,7 @@ class Episode:
     push_dv_mps: float | None = None
     push_index: int | None = None
     keep_trace: bool = False
+    refused: str | None = None  # why the controller cannot run the scenario: an "n/a" row
 
     def labels(self) -> dict[str, Any]:
         push_time = self.run.push_time
@@ -197,7 +199,13 @@ def _episode(controller: str, run: EpisodeSpec, keep_trace: bool, **labels) -> E
     fields = {k: v for k, v in asdict(run).items() if k not in LATER_FIELDS or v != LATER_FIELDS[k]}
     key = json.dumps({"controller": controller, **fields, **labels}, sort_keys=True)
     episode_id = hashlib.sha1(key.encode()).hexdigest()[:16]
-    return Episode(episode_id, controller, run, keep_trace=keep_trace, **labels)
+    refused = _refusal(controller, run.scenario)
+    return Episode(episode_id, controller, run, keep_trace=keep_trace, refused=refused, **labels)
+
+
+@functools.cache
+def _refusal(controller: str, scenario: str) -> str | None:
+    return refusal(controller_spec(controller), scenario)
 
 
 # ---------------------------------------------------------------- parsing and validation

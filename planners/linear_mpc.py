@@ -38,6 +38,7 @@ from planners.base import PlannerSpec, register
 from planners.reference import com_reference, support_centre
 from robots.limbs import PhaseContacts, limb_surfaces, limb_targets
 from robots.model import RobotModel
+from robots.registry import MULTI_CONTACT
 from robots.scene import Scenario
 from robots.types import CentroidalPlan, RobotState
 
@@ -234,5 +235,6 @@ register(
         "linear_mpc",
         LinearMpcPlanner,
         "constrained linear centroidal MPC over ridge forces (Audren et al. 2014)",
+        can=MULTI_CONTACT,
     )
 )

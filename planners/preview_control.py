@@ -41,6 +41,7 @@ from planners.base import PlannerSpec, register
 from planners.reference import com_reference, support_centre
 from robots.limbs import PhaseContacts, limb_surfaces, limb_targets
 from robots.model import RobotModel
+from robots.registry import MULTI_CONTACT
 from robots.scene import Scenario
 from robots.types import CentroidalPlan, RobotState
 
@@ -178,5 +179,6 @@ register(
         "preview_control",
         PreviewControlPlanner,
         "Murooka et al. 2022: 6-DoF centroidal preview control + projection",
+        can=MULTI_CONTACT,
     )
 )

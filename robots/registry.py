@@ -8,16 +8,29 @@ from collections.abc import Callable
 from dataclasses import dataclass
 from typing import Any
 
+# What a controller's parts can do (`ComponentSpec.can`) and what a scenario asks for
+# (`bench.scenarios.ScenarioSpec.requires`); `needs` names what a part needs of the robot.
+CAPABILITIES = {
+    "flat_ground": "standing and walking with the feet on flat ground",
+    "multi_contact": "contacts of any limb on any surface (hands on walls, rails, rungs)",
+}
+NEEDS = {"force_torque_sensors": "6-axis force/torque sensors at the feet and hands"}
+FLAT_GROUND = frozenset({"flat_ground"})
+MULTI_CONTACT = frozenset({"flat_ground", "multi_contact"})
+
 
 @dataclass(frozen=True)
 class ComponentSpec:
     """A registered component: `factory(dt)` builds one for control period dt [s];
-    `pairs_with` names the only counterparts it makes sense with (empty: any)."""
+    `pairs_with` names the only counterparts it makes sense with (empty: any); `can` what it
+    can do (`CAPABILITIES`), `needs` what it needs of the robot (`NEEDS`)."""
 
     name: str
     factory: Callable[[float], Any]
     description: str
     pairs_with: tuple[str, ...] = ()
+    can: frozenset[str] = FLAT_GROUND
+    needs: frozenset[str] = frozenset()
 
 
 class Registry:

@@ -45,6 +45,7 @@ from centroidal.rotations import (
 from centroidal.wrench import zmp_on_plane
 from robots.limbs import limb_surfaces
 from robots.model import RobotModel
+from robots.registry import MULTI_CONTACT
 from robots.scene import Scenario
 from robots.types import CentroidalPlan, RobotState, WholeBodyTargets
 from stabilizers.base import StabilizerSpec, register
@@ -260,5 +261,7 @@ register(
         "centroidal_feedback",
         CentroidalFeedbackStabilizer,
         "Murooka et al. 2022: centroidal PD, wrench distribution, damping",
+        can=MULTI_CONTACT,
+        needs=frozenset({"force_torque_sensors"}),
     )
 )

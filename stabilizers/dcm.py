@@ -49,5 +49,6 @@ register(
         "dcm",
         DcmStabilizer,
         "DCM feedback to a command ZMP (Murooka Appendix), distribution, damping",
+        needs=frozenset({"force_torque_sensors"}),
     )
 )
