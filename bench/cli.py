@@ -885,7 +885,11 @@ def _report(args: argparse.Namespace) -> int:
     try:
         paths = build_report(args.results, out, benchmark_json=args.benchmark_json)
     except FileNotFoundError as exc:
-        raise UsageError(str(exc)) from None
+        if exc.filename is None:  # no results: build_report's own one-line message
+            raise UsageError(str(exc)) from None
+        raise _write_failed("--out", out, exc) from None
+    except OSError as exc:
+        raise _write_failed("--out", out, exc) from None
     for path in paths:
         print(path)
     return 0

@@ -305,9 +305,12 @@ class ResultStore:
     def locked(self) -> Iterator[None]:
         """Hold the directory's lock for the block; ResultStoreError naming the holder if
         another process holds it. The kernel drops an flock when its holder dies."""
-        self.root.mkdir(parents=True, exist_ok=True)
         path = self.root / ".lock"
-        handle = open(path, "a+")  # noqa: SIM115 - held for the block
+        try:
+            self.root.mkdir(parents=True, exist_ok=True)
+            handle = open(path, "a+")  # noqa: SIM115 - held for the block
+        except OSError as exc:
+            raise ResultStoreError(_io_message(self.root, exc)) from exc
         try:
             try:
                 fcntl.flock(handle, fcntl.LOCK_EX | fcntl.LOCK_NB)

@@ -463,3 +463,22 @@ def test_workers_get_sigkill_when_their_parent_dies():
     results = list(LocalExecutor(workers=1).map_unordered(death_signal_work, [0]))
     expected = signal.SIGKILL if sys.platform.startswith("linux") else 0
     assert results == [(0, expected)]
+
+
+@pytest.mark.skipif(not sys.platform.startswith("linux"), reason="/proc")
+@pytest.mark.parametrize("command", ["sweep", "report"])
+def test_unwritable_out_is_one_line(tmp_path: Path, capsys, command):
+    """/proc takes no new folder, not even from root (whom permission bits do not stop)."""
+    from bench.cli import main
+
+    if command == "sweep":
+        argv = ["sweep", "--controllers", "hold+posture", "--sims", "mujoco", "--scenarios"]
+        argv += ["stand", "--duration", "0.3", "--no-progress", "--out", "/proc/centrobench"]
+    else:
+        run_sweep(fault_spec(push=None, sims=["mujoco"]), tmp_path / "r", progress=False)
+        argv = ["report", str(tmp_path / "r"), "--out", "/proc/centrobench"]
+    assert main(argv) == 2
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1, err
+    assert "/proc/centrobench" in err[0]
+    assert "Traceback" not in err[0]
