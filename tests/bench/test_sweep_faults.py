@@ -156,7 +156,9 @@ def test_hung_episode_is_a_timeout_row_with_its_stage_and_resume_reruns_it(
 
 def test_hung_ray_task_is_cancelled_and_recorded_as_a_timeout(tmp_path: Path, monkeypatch):
     ray = pytest.importorskip("ray", reason="Ray is a dev dependency; reinstall with make")
-    spec = fault_spec(push=None)
+    # Ray counts a task's budget from its submission, so it includes the start-up of a fresh
+    # Ray worker (its imports: seconds, more on a loaded machine): a base of 30 s
+    spec = fault_spec(push=None, timeout_base_s=30.0)
     target = spec.episodes()[0]
     monkeypatch.setenv(_TARGET_ENV, target.episode_id)  # Ray's local workers inherit it
     try:
