@@ -97,17 +97,16 @@ class Ran(Exception):
     """Raised by the stand-ins of everything that runs: bad input must not get that far."""
 
 
-@pytest.fixture
-def nothing_runs(monkeypatch, tmp_path):
-    """The working directory is an empty tmp folder, and every runner (episode, sweep,
-    comparison, robot report, simulator) is replaced by one that raises `Ran`."""
+def stub_runners(patch: pytest.MonkeyPatch, message: str, error: type[Exception]) -> None:
+    """Replace every runner (episode, sweep, comparison, robot report, simulator) by one that
+    raises `error(message)`: bad input must not get that far."""
     import bench.compare
     import bench.robot_check
     import bench.runner
     import bench.sweep
 
     def ran(*args, **kwargs):
-        raise Ran("bad input got as far as running something")
+        raise error(message)
 
     for module, name in (
         (bench.runner, "run_episode"),
@@ -117,7 +116,14 @@ def nothing_runs(monkeypatch, tmp_path):
         (bench.robot_check, "robot_report"),
         (base, "make_simulator"),
     ):
-        monkeypatch.setattr(module, name, ran)
+        patch.setattr(module, name, ran)
+
+
+@pytest.fixture
+def nothing_runs(monkeypatch, tmp_path):
+    """The working directory is an empty tmp folder, and every runner is replaced by one
+    that raises `Ran` (`stub_runners`)."""
+    stub_runners(monkeypatch, "bad input got as far as running something", Ran)
     monkeypatch.chdir(tmp_path)
     return tmp_path
 

@@ -27,10 +27,6 @@ import pytest
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
-import bench.compare
-import bench.robot_check
-import bench.runner
-import bench.sweep
 from bench.cli import main
 from bench.limits import (
     CONTROL_PERIOD_S,
@@ -47,7 +43,7 @@ from bench.limits import (
     SEED_LIMIT,
 )
 from bench.scenarios import WALK_STEPS
-from sims import base
+from tests.bench.test_cli import stub_runners
 
 EXAMPLES = {"flags": 800, "structure": 150, "spec": 700, "toml": 200, "report": 150}
 FUZZ = settings(
@@ -66,19 +62,8 @@ class Ran(Exception):
 
 @pytest.fixture(scope="module", autouse=True)
 def nothing_runs() -> Iterator[None]:
-    def ran(*args, **kwargs):
-        raise Ran("a generated input got as far as running something")
-
     with pytest.MonkeyPatch.context() as patch:
-        for module, name in (
-            (bench.runner, "run_episode"),
-            (bench.sweep, "run_sweep"),
-            (bench.compare, "compare"),
-            (bench.compare, "horizon_timing"),
-            (bench.robot_check, "robot_report"),
-            (base, "make_simulator"),
-        ):
-            patch.setattr(module, name, ran)
+        stub_runners(patch, "a generated input got as far as running something", Ran)
         yield
 
 
