@@ -171,7 +171,10 @@ def _worker_main(
     faulthandler.enable(stack_file)  # crashes (SIGSEGV, SIGABRT, ...) write their stack
     faulthandler.register(signal.SIGUSR1, stack_file, all_threads=False)  # the parent asks
     _progress = progress
-    conn.send(None)  # ready: imports done, so that they do not count against a budget
+    try:
+        conn.send(None)  # ready: imports done, so that they do not count against a budget
+    except OSError:  # the parent stopped listening (it is closing): leave quietly
+        return
     while True:
         try:
             message = conn.recv()
@@ -186,8 +189,13 @@ def _worker_main(
             reply = (task_id, False, exc)
         try:
             conn.send(reply)
+        except OSError:  # the parent stopped listening (it is closing): leave quietly
+            return
         except Exception as exc:  # a result or exception that does not pickle
-            conn.send((task_id, False, RuntimeError(f"{type(exc).__name__}: {exc}")))
+            try:
+                conn.send((task_id, False, RuntimeError(f"{type(exc).__name__}: {exc}")))
+            except OSError:
+                return
 
 
 @dataclass
@@ -246,11 +254,13 @@ class _Worker:
         return ""
 
     def kill(self) -> None:
-        with contextlib.suppress(OSError):
-            self.conn.close()
+        """Kill the worker, then close its pipe (in that order: a worker that finished just
+        now must not find its pipe closed while it still runs)."""
         if self.process.is_alive():
             self.process.kill()
         self.process.join(timeout=5)
+        with contextlib.suppress(OSError):
+            self.conn.close()
 
     def exit_description(self) -> str:
         code = self.process.exitcode
