@@ -167,6 +167,12 @@ def _worker_main(
         import resource
 
         resource.setrlimit(resource.RLIMIT_CORE, (0, 0))  # a crash leaves no core file
+    # the worker's stderr (Python's and C libraries') goes to a file beside its stack: a
+    # sweep's command line shows its own lines only; a worker that dies has its last line
+    # quoted in the episode's error row (`_Worker.last_words`)
+    log = os.open(stack_path + ".stderr", os.O_WRONLY | os.O_CREAT | os.O_TRUNC, 0o644)
+    os.dup2(log, 2)
+    os.close(log)
     stack_file = open(stack_path, "w")  # noqa: SIM115 - open for the worker's lifetime
     faulthandler.enable(stack_file)  # crashes (SIGSEGV, SIGABRT, ...) write their stack
     faulthandler.register(signal.SIGUSR1, stack_file, all_threads=False)  # the parent asks
@@ -252,6 +258,14 @@ class _Worker:
         with contextlib.suppress(OSError):
             return self.stack_path.read_text()
         return ""
+
+    def last_words(self) -> str | None:
+        """The last line the worker wrote to its stderr, if any."""
+        with contextlib.suppress(OSError):
+            lines = Path(f"{self.stack_path}.stderr").read_text(errors="replace").split("\n")
+            lines = [line.strip() for line in lines if line.strip()]
+            return lines[-1][:300] if lines else None
+        return None
 
     def kill(self) -> None:
         """Kill the worker, then close its pipe (in that order: a worker that finished just
@@ -390,6 +404,8 @@ class LocalExecutor:
         worker.kill()  # closes its pipe and reaps it
         location = stack_location(worker.stack())
         where = f" (at {location})" if location else ""
+        said = worker.last_words()
+        where += f"; its last words: {said}" if said else ""
         if worker.task is None:
             self._start_failures += 1
             if self._start_failures > 3:

@@ -109,8 +109,10 @@ def hanging_work(episode):
 
 
 def killed_work(episode):
-    """run_one, except that the target episode's worker is killed (SIGKILL) every time."""
+    """run_one, except that the target episode's worker says so on stderr and is killed
+    (SIGKILL) every time."""
     if _is_target(episode):
+        print("about to be killed", file=sys.stderr, flush=True)
         os.kill(os.getpid(), signal.SIGKILL)
     return run_one(episode)
 
@@ -184,6 +186,7 @@ def test_worker_killed_by_a_signal_is_an_error_row_and_resume_reruns_it(
     row = frame.set_index("episode_id").loc[target.episode_id]
     assert row["status"] == "error"
     assert "killed by SIGKILL" in row["error"]
+    assert row["error"].endswith("its last words: about to be killed, twice")
     same_as_reference(resume(out, retry_errors=True), reference)
 
 
