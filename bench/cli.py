@@ -35,6 +35,7 @@ from bench.limits import (
     TIMEOUT_PER_SIM_MAX,
     valid_name,
 )
+from estimators import DEFAULT_ESTIMATOR
 from sims.base import SIMULATORS, MissingDependencyError
 
 T = TypeVar("T")
@@ -269,7 +270,9 @@ def build_parser() -> argparse.ArgumentParser:
         help="forward speed [m/s] of walk and walk_push (default: their 0.139 m/s)",
     )
     run.add_argument(
-        "--estimator", default="ground_truth", help="ground_truth (default) or proprioceptive"
+        "--estimator",
+        default=DEFAULT_ESTIMATOR,
+        help=f"an estimator name (default {DEFAULT_ESTIMATOR}; see `centrobench list`)",
     )
     run.add_argument(
         "--seed", type=_seed("--seed"), default=0, help="random seed, 0 to 2**32 - 1 (default 0)"

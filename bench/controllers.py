@@ -2,8 +2,9 @@
 with a name (DESIGN.md, interfaces). Sweeps, the main job and the report iterate over
 `CONTROLLERS`.
 
-A triple is named "<planner>+<stabilizer>" when its whole-body layer is the default
-(`ik_feedforward`), else "<planner>+<stabilizer>+<whole-body layer>". The registered triples
+A triple is named "<planner>+<stabilizer>" when its whole-body layer is the default (`ik`:
+joint positions from the IK, what Murooka et al.'s robot does), else
+"<planner>+<stabilizer>+<whole-body layer>". The registered triples
 are the ones the papers compare; any other combination of registered parts can still be named
 the same way in a sweep spec (`controller_spec` builds it on the fly).
 """
@@ -52,6 +53,12 @@ CONTROLLERS: dict[str, ControllerSpec] = {
             "Murooka et al. 2022: 6-DoF centroidal preview control and stabilization",
         ),
         ControllerSpec(
+            "preview_control",
+            "centroidal_feedback",
+            "Murooka et al. 2022 with IK feed-forward torques g(q) - J_c^T w^d (our variant)",
+            "ik_feedforward",
+        ),
+        ControllerSpec(
             "preview_zmp", "dcm", "ZMP preview control (Kajita) with DCM feedback (Appendix)"
         ),
         ControllerSpec(
@@ -77,6 +84,9 @@ def controller_spec(name: str) -> ControllerSpec:
         and parts[1] in STABILIZERS.names()
         and parts[2] in WHOLE_BODY_LAYERS.names()
     ):
+        for spec in CONTROLLERS.values():  # a registered triple named with its layer
+            if (spec.planner, spec.stabilizer, spec.whole_body) == tuple(parts):
+                return spec
         return ControllerSpec(parts[0], parts[1], "unregistered combination", parts[2])
     raise KeyError(
         f"unknown controller {name!r}; choose one of: {', '.join(CONTROLLERS)} "

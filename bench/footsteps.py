@@ -17,6 +17,8 @@ from collections.abc import Callable
 import numpy as np
 import pandas as pd
 
+from robots.types import Footstep
+
 MIN_GAP_S = 0.02  # [s] shorter loss of contact: chatter, not a lift-off
 COLUMNS = (
     "limb",
@@ -28,6 +30,7 @@ COLUMNS = (
     "yaw_rad",
     "swing_length_m",
 )
+PLANNED_COLUMNS = ("limb", "liftoff_time_s", "touchdown_time_s", "x_m", "y_m", "z_m", "yaw_rad")
 
 
 class FootstepRecorder:
@@ -96,6 +99,37 @@ class FootstepRecorder:
         return frame.sort_values("touchdown_time_s", ignore_index=True)
 
 
+def compare_with_plan(taken: pd.DataFrame, planned: pd.DataFrame) -> pd.DataFrame:
+    """`taken` with, per step, the planned footstep of the same limb whose touchdown time is
+    nearest: planned_touchdown_time_s, planned_x_m, planned_y_m, planned_yaw_rad, and the
+    errors touchdown_time_error_s (taken - planned) [s] and touchdown_position_error_m (the
+    horizontal distance [m]); NaN where the plan intended no step of that limb."""
+    result = taken.copy()
+    columns = {
+        "planned_touchdown_time_s": "touchdown_time_s",
+        "planned_x_m": "x_m",
+        "planned_y_m": "y_m",
+        "planned_yaw_rad": "yaw_rad",
+    }
+    for column in columns:
+        result[column] = np.nan
+    for index, row in taken.iterrows():
+        same = planned[planned["limb"] == row["limb"]]
+        if len(same):
+            nearest = same.iloc[
+                int(np.argmin(np.abs(same["touchdown_time_s"] - row["touchdown_time_s"])))
+            ]
+            for column, source in columns.items():
+                result.loc[index, column] = nearest[source]
+    result["touchdown_time_error_s"] = (
+        result["touchdown_time_s"] - result["planned_touchdown_time_s"]
+    )
+    result["touchdown_position_error_m"] = np.hypot(
+        result["x_m"] - result["planned_x_m"], result["y_m"] - result["planned_y_m"]
+    )
+    return result
+
+
 def footstep_summary(
     steps: pd.DataFrame,
     com_start_world: np.ndarray | None,
@@ -103,8 +137,11 @@ def footstep_summary(
     goal_offset_world: tuple[float, float] | None,
 ) -> dict[str, float | int | None]:
     """The summary's footstep fields: steps taken, mean swing length [m], mean time between
-    successive touchdowns [s], horizontal distance the CoM walked [m], and its final
-    horizontal distance from the gait command's goal (start + the command's offset) [m]."""
+    successive touchdowns [s], horizontal distance the CoM walked [m] (the runner passes the
+    simulator's ground truth, not the estimate), and its final
+    horizontal distance from the gait command's goal (start + the command's offset) [m]; with
+    the plan's footsteps compared (`compare_with_plan`), the largest touchdown time error
+    (absolute) [s] and horizontal position error [m] of any step."""
     touchdowns = steps["touchdown_time_s"].to_numpy()
     result: dict[str, float | int | None] = {
         "steps_taken": len(steps),
@@ -112,7 +149,12 @@ def footstep_summary(
         "mean_step_duration_s": float(np.diff(touchdowns).mean()) if len(steps) > 1 else None,
         "distance_walked_m": None,
         "final_position_error_m": None,
+        "touchdown_time_error_max_s": None,
+        "touchdown_position_error_max_m": None,
     }
+    if "touchdown_time_error_s" in steps and steps["touchdown_time_error_s"].notna().any():
+        result["touchdown_time_error_max_s"] = float(steps["touchdown_time_error_s"].abs().max())
+        result["touchdown_position_error_max_m"] = float(steps["touchdown_position_error_m"].max())
     if com_start_world is not None and com_end_world is not None:
         travel = np.asarray(com_end_world[:2]) - np.asarray(com_start_world[:2])
         result["distance_walked_m"] = float(np.hypot(*travel))
@@ -121,3 +163,44 @@ def footstep_summary(
                 np.hypot(*(travel - np.asarray(goal_offset_world)))
             )
     return result
+
+
+class PlannedFootstepRecorder:
+    """The footsteps the plans intended (`CentroidalPlan.footsteps`): for each, the last version
+    a plan published before its touchdown time, kept once that time has passed. The runner
+    calls `observe` every period (work only when the plan's tuple changes or a touchdown time
+    passes) and `table` once at the end."""
+
+    def __init__(self) -> None:
+        self.last: tuple | None = None
+        self.pending: dict[str, Footstep] = {}  # limb -> its next step in the latest plan
+        self.due = math.inf  # earliest pending touchdown time [s]
+        self.kept: list[Footstep] = []
+
+    def observe(self, t: float, footsteps: tuple) -> None:
+        """The plan's upcoming footsteps (touchdown order) at time t [s]."""
+        if self.due <= t:
+            for limb, step in list(self.pending.items()):
+                if step.touchdown_time <= t:
+                    self.kept.append(step)
+                    del self.pending[limb]
+            self._update_due()
+        if footsteps is self.last:
+            return
+        self.last = footsteps
+        pending = {}
+        for step in footsteps:  # each limb's first upcoming step is its next one
+            pending.setdefault(step.limb, step)
+        self.pending = pending  # a step the plan no longer lists is no longer intended
+        self._update_due()
+
+    def _update_due(self) -> None:
+        self.due = min((s.touchdown_time for s in self.pending.values()), default=math.inf)
+
+    def table(self) -> pd.DataFrame:
+        """One row per intended footstep whose touchdown time has passed: limb, lift-off and
+        touchdown times [s], position [m] and yaw [rad]."""
+        rows = [
+            (s.limb, s.liftoff_time, s.touchdown_time, *s.position_world, s.yaw) for s in self.kept
+        ]
+        return pd.DataFrame(rows, columns=list(PLANNED_COLUMNS))

@@ -18,14 +18,20 @@ from dataclasses import dataclass, field
 import numpy as np
 import pandas as pd
 
-from bench.footsteps import FootstepRecorder, footstep_summary
+from bench.footsteps import (
+    FootstepRecorder,
+    PlannedFootstepRecorder,
+    compare_with_plan,
+    footstep_summary,
+)
 from bench.provenance import provenance
 from bench.scenarios import make_scenario
 from centroidal.rotations import to_matrix
 from centroidal.support import margin_inside, support_halfplanes, surface_vertices_world
-from estimators.base import make_estimator
+from estimators.base import DEFAULT_ESTIMATOR, make_estimator
 from planners.base import planner_spec
 from robots.humanoid import humanoid
+from robots.limbs import yaw_of
 from robots.model import RobotModel
 from robots.types import CentroidalPlan, JointCommand, WholeBodyTargets
 from sims.base import make_simulator
@@ -52,7 +58,7 @@ class EpisodeSpec:
     duration: float | None = None
     push_impulse: float | None = None
     push_direction_deg: float | None = None
-    estimator: str = "ground_truth"
+    estimator: str = DEFAULT_ESTIMATOR
     scale: float = 1.0
     push_time: float | None = None  # [s], stand_push only
     push_step: int | None = None  # walk_push only: the single-support phase pushed
@@ -215,6 +221,9 @@ def run_episode(spec: EpisodeSpec, progress: MutableSequence[float] | None = Non
         "mean_step_duration_s": None,
         "distance_walked_m": None,
         "final_position_error_m": None,
+        "touchdown_time_error_max_s": None,
+        "touchdown_position_error_max_m": None,
+        "final_yaw_error_rad": None,
     }
     trace = _Trace(0, ())
     sim = None
@@ -257,10 +266,15 @@ def run_episode(spec: EpisodeSpec, progress: MutableSequence[float] | None = Non
         tuple(k for k, limb in enumerate(robot.limbs) if limb.name.endswith("foot")),
         lambda limb: _sole_pose(model, sim, limb),
     )
+    planned_steps = PlannedFootstepRecorder()
     stage = "setup"
     wall_start = time.perf_counter()
+    com_true_start = com_true_end = None  # [m] ground truth: walked, whatever was estimated
+    yaw_true = [math.nan, math.nan]  # [rad] the base's heading at the start and the end
     try:
         initial = model.standing_state()
+        com_true_start = model.com_position_world(initial)
+        yaw_true[0] = yaw_of(initial.base_orientation_world)
         sensors = sim.reset(robot, scene, initial)
         estimator.reset(initial, sensors)
         state = estimator.estimate(sensors)
@@ -280,12 +294,14 @@ def run_episode(spec: EpisodeSpec, progress: MutableSequence[float] | None = Non
             state = estimator.estimate(sensors)
             timings["estimator"] = time.perf_counter_ns() - start
             _check_finite("estimator", state.base_position_world, state.com_position_world)
+            com_true = model.com_state_world(sensors.ground_truth())  # for the record only
             stage = "planner"
             progress[0] = 2.0
             start = time.perf_counter_ns()
             plan = planner.plan(t, state)
             timings["planner"] = time.perf_counter_ns() - start
             _check_plan(plan)
+            estimator.follow(plan)
             stage = "stabilizer"
             progress[0] = 3.0
             start = time.perf_counter_ns()
@@ -306,7 +322,10 @@ def run_episode(spec: EpisodeSpec, progress: MutableSequence[float] | None = Non
 
             summary["solver_failures"] = int(plan.solver_failures)
             recorder.observe(t, state.contact_flag_limb.tolist())
+            planned_steps.observe(t, plan.footsteps)
             _record(trace, t, state, plan, targets, timings)
+            trace.put_vector("com_true", com_true[0])
+            trace.put_vector("com_velocity_true", com_true[1])
             trace.put("zmp_margin_m", support.margin(plan))
             trace.n += 1
             reason = sim.fall_reason()
@@ -323,6 +342,12 @@ def run_episode(spec: EpisodeSpec, progress: MutableSequence[float] | None = Non
             message += f" (at {last.filename.rsplit('/', 1)[-1]}:{last.lineno})"
         summary.update(status="error", error=message, error_stage=stage)
     finally:
+        try:
+            truth = sim.ground_truth()
+            com_true_end = model.com_position_world(truth)
+            yaw_true[1] = yaw_of(truth.base_orientation_world)
+        except Exception:  # a simulator that failed may have no state left
+            com_true_end = None
         sim.close()
     wall = time.perf_counter() - wall_start
     frame = trace.frame()
@@ -339,16 +364,15 @@ def run_episode(spec: EpisodeSpec, progress: MutableSequence[float] | None = Non
     if len(frame):
         summary["projection_error"] = _projection_error(frame)
         summary["zmp_margin_min_m"] = float(frame["zmp_margin_m"].min())
-    footsteps = recorder.table()
-    com = frame[["com_actual_x", "com_actual_y"]].to_numpy() if len(frame) else None
+    footsteps = compare_with_plan(recorder.table(), planned_steps.table())
     summary.update(
-        footstep_summary(
-            footsteps,
-            None if com is None else com[0],
-            None if com is None else com[-1],
-            scenario.goal_offset_world,
-        )
+        footstep_summary(footsteps, com_true_start, com_true_end, scenario.goal_offset_world)
     )
+    if scenario.goal_yaw is not None and all(map(math.isfinite, yaw_true)):
+        turned = yaw_true[1] - yaw_true[0]
+        summary["final_yaw_error_rad"] = float(
+            abs(math.remainder(turned - scenario.goal_yaw, 2 * math.pi))
+        )
     summary.update(provenance())
     return EpisodeResult(summary, frame, footsteps)
 

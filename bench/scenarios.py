@@ -12,9 +12,12 @@
   support; impulse [N s] (default 10: the paper's pairs walk through it in both simulators,
   15 falls) and direction [deg] (default 90: to the left).
 - `walk_side`: 10 steps to the left, 0.05 m each, left foot first (`WALK_SIDE_GAIT`).
+- `walk_turn`: 10 steps turning left by 10 deg each (90 deg in all) while advancing 0.05 m per
+  step, left foot first (`WALK_TURN_GAIT`).
 
-Walks are built from a `GaitCommand` (forward and lateral step length or speed, step period,
-double-support ratio, swing height, steps, standing time before and after); `walk` and
+Walks are built from a `GaitCommand` (forward and lateral step length or speed, turn per step
+or yaw rate, step width, step period, double-support ratio, swing height, steps, standing time
+before and after); `walk` and
 `walk_push` take a forward `speed` [m/s].
 """
 
@@ -95,6 +98,12 @@ class GaitCommand:
     lateral_step: float = 0.0
     speed: float | None = None
     lateral_speed: float | None = None
+    turn: float = 0.0
+    """[rad] the path's heading change per step (left positive); `yaw_rate` sets it instead."""
+    yaw_rate: float | None = None
+    """[rad/s] turn = yaw_rate x step_period."""
+    step_width: float | None = None
+    """[m] lateral distance between the footprints (None: the standing width)."""
     step_period: float = 0.9
     double_support_ratio: float = 0.15
     swing_height: float = 0.05
@@ -113,14 +122,53 @@ class GaitCommand:
         )
         return forward, lateral
 
+    def turn_per_step(self, scale: float) -> float:
+        """The path's heading change per step [rad] at `scale`."""
+        if self.yaw_rate is None:
+            return self.turn
+        return self.yaw_rate * self.step_period * float(np.sqrt(scale))
+
+    def path(self, scale: float) -> list[tuple[np.ndarray, float]]:
+        """The path's poses after 0, 1, ..., steps - 1 advances: position (x, y) [m] relative
+        to where it starts and heading [rad]. Each advance moves (forward, lateral) in the
+        frame of the heading halfway through it (a chord of the arc when the path turns),
+        then turns by `turn_per_step`."""
+        forward, lateral = self.step_length_for(scale)
+        turn = self.turn_per_step(scale)
+        poses = [(np.zeros(2), 0.0)]
+        for _ in range(self.steps - 1):
+            position, heading = poses[-1]
+            middle = heading + turn / 2
+            c, s = np.cos(middle), np.sin(middle)
+            poses.append(
+                (
+                    position + np.array([c * forward - s * lateral, s * forward + c * lateral]),
+                    heading + turn,
+                )
+            )
+        return poses
+
     def goal_offset(self, scale: float) -> np.ndarray:
         """Where the walk ends relative to where it starts [m] (x forward, y left)."""
-        forward, lateral = self.step_length_for(scale)
-        return (self.steps - 1) * np.array([forward, lateral])
+        if self.turn_per_step(scale) == 0.0:
+            forward, lateral = self.step_length_for(scale)
+            return (self.steps - 1) * np.array([forward, lateral])
+        return self.path(scale)[-1][0]
+
+    def goal_yaw(self, scale: float) -> float:
+        """How far the walk turns [rad] (left positive)."""
+        return (self.steps - 1) * self.turn_per_step(scale)
+
+    @property
+    def straight(self) -> bool:
+        """No turn and the standing width: the contact sequence of the straight walk."""
+        return self.turn == 0.0 and self.yaw_rate in (None, 0.0) and self.step_width is None
 
 
 DEFAULT_GAIT = GaitCommand()
 WALK_SIDE_GAIT = GaitCommand(step_length=0.0, lateral_step=0.05)
+WALK_TURN_GAIT = GaitCommand(step_length=0.05, turn=float(np.deg2rad(10.0)))
+"""`walk_turn`: 10 steps turning left by 10 deg each while advancing 0.05 m (90 deg in all)."""
 
 
 def walk(
@@ -137,26 +185,37 @@ def walk(
     steps = gait.steps
     start = {c.limb: c for c in _standing_contacts(model)}
     feet = {name: np.array(contact.position_world) for name, contact in start.items()}
+    orientation = {name: contact.orientation_world for name, contact in start.items()}
     double = gait.double_support_ratio * step_period
     single = step_period - double
-    first, second = ("left_foot", "right_foot") if lateral > 0 else ("right_foot", "left_foot")
+    turn = gait.turn_per_step(scale)
+    leftward = lateral > 0 or (lateral == 0 and turn > 0)
+    first, second = ("left_foot", "right_foot") if leftward else ("right_foot", "left_foot")
+    footholds = None if gait.straight else _footholds(gait, scale, start)
     phases = []
     t = gait.start_double_support
     phases.append(ContactPhase(0.0, t, tuple(start.values())))
     for k in range(1, steps + 1):
         swing = first if k % 2 else second
         support = second if swing == first else first
-        phases.append(ContactPhase(t, t + single, (Contact(support, tuple(feet[support])),)))
+        phases.append(
+            ContactPhase(
+                t, t + single, (Contact(support, tuple(feet[support]), orientation[support]),)
+            )
+        )
         # the path advances one step per step but the last; a foot placed at step k moves by
         # the path's advance since it was last placed: one step the first time, two after,
         # one on the last step (for the default gait: 0.125, 0.25, ..., 0.125 m)
-        advances = 1 if k in (1, steps) else 2
-        feet[swing] = feet[swing] + _advance(forward, lateral, advances)
+        if footholds is None:
+            advances = 1 if k in (1, steps) else 2
+            feet[swing] = feet[swing] + _advance(forward, lateral, advances)
+        else:
+            feet[swing], orientation[swing] = footholds[swing][min(k, steps - 1)]
         t += single
         end = t + (gait.end_double_support if k == steps else double)
-        both = (
-            Contact("left_foot", tuple(feet["left_foot"])),
-            Contact("right_foot", tuple(feet["right_foot"])),
+        both = tuple(
+            Contact(name, tuple(feet[name]), orientation[name])
+            for name in ("left_foot", "right_foot")
         )
         phases.append(ContactPhase(t, end, both))
         t = end
@@ -171,7 +230,35 @@ def walk(
         model.robot.nominal_posture,
         swing_height=swing_height,
         goal_offset_world=tuple(float(v) for v in gait.goal_offset(scale)),
+        goal_yaw=gait.goal_yaw(scale),
     )
+
+
+def _footholds(
+    gait: GaitCommand, scale: float, start: dict[str, Contact]
+) -> dict[str, list[tuple[np.ndarray, tuple[float, float, float, float]]]]:
+    """Per foot, its contact pose at each of the path's poses (`GaitCommand.path`): the foot
+    keeps its standing offset from the feet's midpoint in the path's frame (across the path:
+    half the step width), and the path's heading as its yaw."""
+    middle = np.mean([np.array(c.position_world) for c in start.values()], axis=0)
+    result = {}
+    for name, contact in start.items():
+        offset = np.array(contact.position_world) - middle
+        if gait.step_width is not None:
+            offset[1] = np.copysign(gait.step_width * scale / 2, offset[1])
+        poses = []
+        for position, heading in gait.path(scale):
+            c, s = np.cos(heading), np.sin(heading)
+            foot = middle + np.array(
+                [
+                    position[0] + c * offset[0] - s * offset[1],
+                    position[1] + s * offset[0] + c * offset[1],
+                    offset[2],
+                ]
+            )
+            poses.append((foot, (float(np.cos(heading / 2)), 0.0, 0.0, float(np.sin(heading / 2)))))
+        result[name] = poses
+    return result
 
 
 def _advance(forward: float, lateral: float, steps: int) -> np.ndarray:
@@ -184,6 +271,12 @@ def _advance(forward: float, lateral: float, steps: int) -> np.ndarray:
 def walk_side(model: RobotModel, duration: float | None = None, **_: object) -> Scenario:
     """`walk` with `WALK_SIDE_GAIT`: 10 steps to the left, 0.05 m each (0.45 m in all)."""
     return walk(model, duration, WALK_SIDE_GAIT, name="walk_side")
+
+
+def walk_turn(model: RobotModel, duration: float | None = None, **_: object) -> Scenario:
+    """`walk` with `WALK_TURN_GAIT`: 10 steps turning left 10 deg each (90 deg in all) while
+    advancing 0.05 m per step, left foot first."""
+    return walk(model, duration, WALK_TURN_GAIT, name="walk_turn")
 
 
 def walk_push(
@@ -213,6 +306,7 @@ def walk_push(
         (push,),
         base.swing_height,
         base.goal_offset_world,
+        base.goal_yaw,
     )
 
 
@@ -227,6 +321,9 @@ SCENARIOS: dict[str, ScenarioSpec] = {
     ),
     "walk_side": ScenarioSpec(
         "walk_side", walk_side, "10 steps to the left, 0.05 m each, left foot first"
+    ),
+    "walk_turn": ScenarioSpec(
+        "walk_turn", walk_turn, "10 steps turning left 10 deg each (90 deg), 0.05 m forward"
     ),
 }
 WALKS_WITH_SPEED = ("walk", "walk_push")  # the scenarios whose forward speed can be set

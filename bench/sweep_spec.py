@@ -11,7 +11,7 @@ A spec (every field but `controllers` and `sims` optional)::
     seeds = [0]
     scales = [1.0]              # robot length scale (mass with its cube)
     frictions = [0.6]           # Coulomb coefficient of every contact
-    estimator = "ground_truth"
+    estimator = "kinematic_inertial"
     traces = ["walk"]           # scenarios whose per-period traces are stored
     timeout_base_s = 60.0       # wall-clock budget of an episode [s]: base + per_sim_s x its
     timeout_per_sim_s = 10.0    # simulated duration; past it the episode ends as "timeout"
@@ -60,7 +60,7 @@ from bench.push_protocol import (
 )
 from bench.runner import EpisodeSpec
 from bench.scenarios import SCENARIOS, WALKS_WITH_SPEED
-from estimators.base import ESTIMATORS
+from estimators.base import DEFAULT_ESTIMATOR, ESTIMATORS
 from sims.base import SIMULATORS
 from wholebody.base import DEFAULT_WHOLE_BODY
 
@@ -108,7 +108,7 @@ class SweepSpec:
     seeds: tuple[int, ...] = (0,)
     scales: tuple[float, ...] = (1.0,)
     frictions: tuple[float, ...] = (0.6,)
-    estimator: str = "ground_truth"
+    estimator: str = DEFAULT_ESTIMATOR
     traces: tuple[str, ...] = ("walk",)
     push: PushProtocol | None = None
     duration: float | None = None  # [s] override for the plain scenarios
@@ -312,7 +312,7 @@ def spec_from_mapping(data: dict[str, Any]) -> SweepSpec:
     for label, values in (("seeds", seeds), ("scales", scales), ("frictions", frictions)):
         if not values:
             raise SpecError(f"sweep spec field {label!r} must not be empty")
-    estimator = data.get("estimator", "ground_truth")
+    estimator = data.get("estimator", DEFAULT_ESTIMATOR)
     if not isinstance(estimator, str) or estimator not in ESTIMATORS.names():
         raise SpecError(
             f"sweep spec field 'estimator': unknown {estimator!r}; valid: "

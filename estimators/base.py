@@ -14,9 +14,10 @@ import numpy as np
 import pinocchio as pin
 
 from centroidal.wrench import resultant_about_origin, zmp_on_plane
+from estimators import DEFAULT_ESTIMATOR  # noqa: F401 - re-exported
 from robots.model import RobotModel
 from robots.registry import ComponentSpec, Registry
-from robots.types import RobotState, Sensors
+from robots.types import CentroidalPlan, RobotState, Sensors
 
 
 class Estimator(Protocol):
@@ -24,6 +25,7 @@ class Estimator(Protocol):
 
     def reset(self, initial: RobotState, sensors: Sensors) -> None: ...
     def estimate(self, sensors: Sensors) -> RobotState: ...
+    def follow(self, plan: CentroidalPlan) -> None: ...
 
 
 class EstimatorBase:
@@ -39,6 +41,11 @@ class EstimatorBase:
 
     def reset(self, initial: RobotState, sensors: Sensors) -> None:
         """Start from the known initial state (the scenario's)."""
+
+    def follow(self, plan: CentroidalPlan) -> None:
+        """The plan of this period (called after the planner): for estimators that place the
+        robot relative to the planned contacts (`estimators.kinematic_inertial`); others
+        ignore it."""
 
     def _complete(self, state: RobotState, sensors: Sensors) -> RobotState:
         """Add CoM, CoM velocity, measured wrenches, contact flags and ZMP to `state`."""
@@ -72,7 +79,14 @@ class EstimatorBase:
 
 
 # `ComponentSpec.factory(model)` builds an estimator for a `RobotModel`
-ESTIMATORS = Registry("estimator", modules=("estimators.ground_truth", "estimators.proprioceptive"))
+ESTIMATORS = Registry(
+    "estimator",
+    modules=(
+        "estimators.ground_truth",
+        "estimators.proprioceptive",
+        "estimators.kinematic_inertial",
+    ),
+)
 register = ESTIMATORS.register
 
 

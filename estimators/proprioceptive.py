@@ -56,19 +56,14 @@ class ProprioceptiveEstimator(EstimatorBase):
         pin.computeJointJacobians(self.model, self.data, q)
         pin.updateFramePlacements(self.model, self.data)
         vertical = sensors.contact_wrench_limb[:, 2]
-        stance = np.zeros_like(self.in_contact)
-        stance[self.foot_index] = vertical[self.foot_index] > self.contact_force
+        stance = self._stance(vertical)
         dt = max(sensors.time - self.last_time, 0.0)
         self.last_time = sensors.time
         if stance.any():
             offsets = np.array(
                 [self.data.oMf[self.limb_frames[k]].translation for k in np.flatnonzero(stance)]
             )
-            landed = stance & ~self.in_contact
-            for k in np.flatnonzero(landed):  # anchor a newly landed foot where it is
-                self.anchors[k] = (
-                    self.base_position + self.data.oMf[self.limb_frames[k]].translation
-                )
+            self._anchor(stance, stance & ~self.in_contact)
             weights = vertical[stance] / vertical[stance].sum()
             self.base_position = weights @ (self.anchors[stance] - offsets)
             # Stance feet do not move: J_lin(foot) v = 0 solved for the base linear velocity.
@@ -93,6 +88,19 @@ class ProprioceptiveEstimator(EstimatorBase):
             sensors.joint_velocity,
         )
         return self._complete(state, sensors)
+
+    def _stance(self, vertical_force: np.ndarray) -> np.ndarray:
+        """(n_limbs,) bool: the limbs taken as not moving, from their vertical forces [N]."""
+        stance = np.zeros_like(self.in_contact)
+        stance[self.foot_index] = vertical_force[self.foot_index] > self.contact_force
+        return stance
+
+    def _anchor(self, stance: np.ndarray, landed: np.ndarray) -> None:
+        """Set the anchors of the stance limbs (n_limbs,) bool: each newly `landed` one where
+        the kinematics put it now (its world position from the last base position and the
+        current relative kinematics in `self.data`); the others keep theirs."""
+        for k in np.flatnonzero(landed):
+            self.anchors[k] = self.base_position + self.data.oMf[self.limb_frames[k]].translation
 
 
 register(

@@ -16,6 +16,7 @@ import numpy as np
 
 from centroidal.rotations import IDENTITY_WXYZ, from_matrix
 from planners.base import PlannerSpec, register
+from robots.limbs import FootstepSchedule, scheduled_footsteps
 from robots.model import RobotModel
 from robots.scene import Scenario
 from robots.types import CentroidalPlan, RobotState
@@ -28,6 +29,7 @@ class HoldPlanner:
         self.dt = dt
 
     def reset(self, robot: RobotModel, scenario: Scenario, state: RobotState) -> None:
+        self.schedule = FootstepSchedule(scheduled_footsteps(scenario))
         self.robot = robot
         self.scenario = scenario
         limbs = robot.robot.limbs
@@ -66,6 +68,7 @@ class HoldPlanner:
             wrench_projected_world=self.wrench,
             zmp_planned_world=self.zmp,
             contact_limbs=phase.limbs,
+            footsteps=self.schedule.upcoming(t),
             limb_target_position_world=position,
             limb_target_orientation_world=orientation,
             timings_ns={"reference": time.perf_counter_ns() - start},

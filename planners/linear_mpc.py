@@ -35,8 +35,14 @@ from centroidal.projection import DEFAULT_BACKEND, WrenchProjector, project_resu
 from centroidal.rotations import exp, from_matrix, log, to_matrix
 from centroidal.wrench import cross, zmp_on_plane
 from planners.base import PlannerSpec, register
-from planners.reference import com_reference, support_centre
-from robots.limbs import PhaseContacts, limb_surfaces, limb_targets
+from planners.reference import com_reference, support_centre, yaw_reference
+from robots.limbs import (
+    FootstepSchedule,
+    PhaseContacts,
+    limb_surfaces,
+    limb_targets,
+    scheduled_footsteps,
+)
 from robots.model import RobotModel
 from robots.registry import MULTI_CONTACT
 from robots.scene import Scenario
@@ -72,6 +78,7 @@ class LinearMpcPlanner:
         self.projector = WrenchProjector(projection_backend)
 
     def reset(self, robot: RobotModel, scenario: Scenario, state: RobotState) -> None:
+        self.schedule = FootstepSchedule(scheduled_footsteps(scenario))
         description = robot.robot
         self.scenario = scenario
         self.mass = description.total_mass
@@ -92,9 +99,9 @@ class LinearMpcPlanner:
         )
         _, support_height = support_centre(scenario, 0.0)
         span = scenario.duration + (self.horizon + 2) * self.dtau
-        self.reference = com_reference(
-            scenario, REFERENCE_DT, int(np.ceil(span / REFERENCE_DT)) + 2, com[2] - support_height
-        )
+        n_reference = int(np.ceil(span / REFERENCE_DT)) + 2
+        self.reference = com_reference(scenario, REFERENCE_DT, n_reference, com[2] - support_height)
+        self.yaw_reference = yaw_reference(scenario, REFERENCE_DT, n_reference)
         self.start_pose = {}
         for limb in self.limbs:
             position, rotation = robot.frame_pose(state, limb.contact_frame)
@@ -111,8 +118,10 @@ class LinearMpcPlanner:
         self.last_error: str | None = None
 
     def _reference_at(self, times: np.ndarray) -> np.ndarray:
-        index = np.minimum(np.round(times / REFERENCE_DT).astype(int), len(self.reference) - 1)
-        return self.reference[index]
+        return self.reference[self._reference_index(times)]
+
+    def _reference_index(self, times: np.ndarray) -> np.ndarray:
+        return np.minimum(np.round(times / REFERENCE_DT).astype(int), len(self.reference) - 1)
 
     def _linearisation_points(self, times: np.ndarray) -> np.ndarray:
         """c-hat_k: the CoM the previous solution predicted at `times` (the reference before
@@ -139,6 +148,8 @@ class LinearMpcPlanner:
         per_sample = [self._phase_contacts(phase) for phase in phases]
         y_reference = np.zeros((self.horizon, 6))
         y_reference[:, :3] = self._reference_at(samples + self.dtau)
+        if self.yaw_reference is not None:  # a turning walk (`planners.reference`)
+            y_reference[:, 5] = self.yaw_reference[self._reference_index(samples + self.dtau)]
         phase = phases[0]
         contacts_now, height = per_sample[0]
         after_reference = time.perf_counter_ns()
@@ -218,6 +229,7 @@ class LinearMpcPlanner:
             wrench_projected_world=wrench_projected,
             zmp_planned_world=zmp,
             contact_limbs=phase.limbs,
+            footsteps=self.schedule.upcoming(t),
             limb_target_position_world=positions,
             limb_target_orientation_world=orientations,
             timings_ns={

@@ -38,8 +38,14 @@ from centroidal.projection import DEFAULT_BACKEND, WrenchProjector, project_resu
 from centroidal.rotations import exp, from_matrix, log, to_matrix
 from centroidal.wrench import zmp_on_plane
 from planners.base import PlannerSpec, register
-from planners.reference import com_reference, support_centre
-from robots.limbs import PhaseContacts, limb_surfaces, limb_targets
+from planners.reference import com_reference, support_centre, yaw_reference
+from robots.limbs import (
+    FootstepSchedule,
+    PhaseContacts,
+    limb_surfaces,
+    limb_targets,
+    scheduled_footsteps,
+)
 from robots.model import RobotModel
 from robots.registry import MULTI_CONTACT
 from robots.scene import Scenario
@@ -73,6 +79,7 @@ class PreviewControlPlanner:
         self.dtau = TABLE_I["dtau"]
 
     def reset(self, robot: RobotModel, scenario: Scenario, state: RobotState) -> None:
+        self.schedule = FootstepSchedule(scheduled_footsteps(scenario))
         self.robot_model, self.scenario = robot, scenario
         description = robot.robot
         self.mass = description.total_mass
@@ -102,6 +109,9 @@ class PreviewControlPlanner:
         _, support_height = support_centre(scenario, 0.0)
         n_samples = int(np.ceil(scenario.duration / self.dtau)) + self.horizon + 2
         self.reference = com_reference(scenario, self.dtau, n_samples, com[2] - support_height)
+        yaws = yaw_reference(scenario, self.dtau, n_samples)
+        if yaws is not None:  # a turning walk: the base yaw reference too (angular row z)
+            self.reference = np.column_stack([self.reference, np.zeros((n_samples, 2)), yaws])
         friction = scenario.scene.friction
         self.limbs = description.limbs
         self.surfaces = limb_surfaces(description, friction)
@@ -115,7 +125,7 @@ class PreviewControlPlanner:
         start = time.perf_counter_ns()
         index = int(t / self.dtau + 1e-9)
         window = self.reference[index + 1 : index + 1 + self.horizon]  # c_ref; f_ref = 0
-        reference_now = self.reference[index]
+        reference_now = self.reference[index, :3]
         after_reference = time.perf_counter_ns()
 
         # eq. 5 on all six axes; the angular references (angle, moment) are zero (Sec. V-B).
@@ -159,6 +169,7 @@ class PreviewControlPlanner:
             wrench_projected_world=wrench_projected,
             zmp_planned_world=zmp,
             contact_limbs=phase.limbs,
+            footsteps=self.schedule.upcoming(t),
             limb_target_position_world=positions,
             limb_target_orientation_world=orientations,
             timings_ns={

@@ -26,8 +26,20 @@ from centroidal.projection import DEFAULT_BACKEND, GRAVITY, WrenchProjector, pro
 from centroidal.rotations import IDENTITY_WXYZ, from_matrix
 from centroidal.wrench import zmp_on_plane
 from planners.base import PlannerSpec, register
-from planners.reference import com_reference, support_centre
-from robots.limbs import PhaseContacts, limb_surfaces, limb_targets
+from planners.reference import (
+    com_reference,
+    feet_heading,
+    heading_quaternion,
+    support_centre,
+    yaw_reference,
+)
+from robots.limbs import (
+    FootstepSchedule,
+    PhaseContacts,
+    limb_surfaces,
+    limb_targets,
+    scheduled_footsteps,
+)
 from robots.model import RobotModel
 from robots.scene import Scenario
 from robots.types import CentroidalPlan, RobotState
@@ -44,6 +56,7 @@ class PreviewZmpPlanner:
         self.dtau, self.horizon = KAJITA["dtau"], KAJITA["horizon"]
 
     def reset(self, robot: RobotModel, scenario: Scenario, state: RobotState) -> None:
+        self.schedule = FootstepSchedule(scheduled_footsteps(scenario))
         self.scenario = scenario
         description = robot.robot
         self.mass = description.total_mass
@@ -64,6 +77,8 @@ class PreviewZmpPlanner:
         self.reference = com_reference(scenario, self.dtau, n_samples, self.height)
         self.window = np.zeros((self.horizon, 2, 1))
         self.limbs = description.limbs
+        # a turning walk: the base heading follows the feet (`planners.reference`)
+        self.turns = yaw_reference(scenario, self.dtau, n_samples) is not None
         self.surfaces = limb_surfaces(description, scenario.scene.friction)
         self._phase_contacts = PhaseContacts(self.surfaces)
         self.start_pose = {}
@@ -105,17 +120,23 @@ class PreviewZmpPlanner:
             self.scenario, self.limbs, self.start_pose, t
         )
         zero = np.zeros(3)
+        heading = (
+            heading_quaternion(feet_heading(self.limbs, orientations))
+            if self.turns
+            else IDENTITY_WXYZ
+        )
         return CentroidalPlan(
             com_reference_world=reference_now,
             com_planned_world=com,
             com_velocity_planned_world=velocity,
             com_acceleration_planned_world=acceleration,
-            base_orientation_planned_world=IDENTITY_WXYZ,
+            base_orientation_planned_world=heading,
             base_angular_velocity_planned_world=zero,
             wrench_planned_world=wrench_planned,
             wrench_projected_world=wrench_projected,
             zmp_planned_world=zmp,
             contact_limbs=phase.limbs,
+            footsteps=self.schedule.upcoming(t),
             limb_target_position_world=positions,
             limb_target_orientation_world=orientations,
             timings_ns={

@@ -6,13 +6,15 @@ V-C): piecewise constant and synchronised with the contact switches.
   during a phase without any contact (a flight), the last supported phase's centre.
 - Vertical CoM: the mean height of the supporting feet plus a constant offset (the initial CoM
   height above the soles).
-- Base orientation: zero (level, yaw 0). Reference resultant force and moment: zero.
+- Base orientation: zero (level, yaw 0); a turning walk's yaw follows the support's heading
+  (`yaw_reference`, an adaptation). Reference resultant force and moment: zero.
 """
 
 from __future__ import annotations
 
 import numpy as np
 
+from robots.limbs import yaw_of
 from robots.scene import Scenario
 
 
@@ -47,3 +49,58 @@ def com_reference(
         reference[i, :2] = centre
         reference[i, 2] = height + height_offset
     return reference
+
+
+def support_yaw(scenario: Scenario, time: float) -> float:
+    """Heading [rad] of the support at `time`: the circular mean of the supporting feet's yaws
+    (of all contacts when no foot is in contact; a flight holds the last supported phase's),
+    the rule of `support_centre` applied to the heading."""
+    phase = scenario.phase_at(time)
+    if not phase.contacts:
+        earlier = [p for p in scenario.phases if p.end <= phase.start and p.contacts]
+        if not earlier:
+            raise ValueError(f"no contact at or before t = {time} s: no support reference")
+        return support_yaw(scenario, earlier[-1].start)
+    contacts = [c for c in phase.contacts if c.limb.endswith("foot")] or list(phase.contacts)
+    yaws = np.array([yaw_of(c.orientation_world) for c in contacts])
+    return float(np.arctan2(np.sin(yaws).sum(), np.cos(yaws).sum()))
+
+
+def yaw_reference(scenario: Scenario, dtau: float, n_samples: int) -> np.ndarray | None:
+    """Base yaw reference (n_samples,) [rad] at times 0, dtau, ...: piecewise constant, the
+    support's heading (`support_yaw`), unwrapped; None when it is zero throughout (a walk that
+    does not turn: the paper's zero base-orientation reference, Sec. V-B, unchanged).
+
+    Adaptation (not in the paper, whose walks do not turn): a turning walk's base follows the
+    support's heading by the same rule as the horizontal CoM reference."""
+    yaws = np.empty(n_samples)
+    by_phase: dict[int, float] = {}
+    for i in range(n_samples):
+        phase = scenario.phase_at(i * dtau)
+        if id(phase) not in by_phase:
+            by_phase[id(phase)] = support_yaw(scenario, i * dtau)
+        yaws[i] = by_phase[id(phase)]
+    if not yaws.any():
+        return None
+    return np.unwrap(yaws)
+
+
+def heading_quaternion(yaw: float) -> np.ndarray:
+    """The level orientation (w, x, y, z) with heading `yaw` [rad]."""
+    return np.array([np.cos(yaw / 2), 0.0, 0.0, np.sin(yaw / 2)])
+
+
+def feet_heading(limbs, orientations_wxyz: np.ndarray) -> float:
+    """The circular mean [rad] of the feet's target yaws (`limbs` with their target
+    orientations (n, 4)): a smooth base heading for planners that plan no base rotation
+    (their swing targets turn smoothly)."""
+    yaws = np.array(
+        [
+            yaw_of(q)
+            for limb, q in zip(limbs, orientations_wxyz, strict=True)
+            if limb.name.endswith("foot")
+        ]
+    )
+    if not len(yaws):
+        return 0.0
+    return float(np.arctan2(np.sin(yaws).sum(), np.cos(yaws).sum()))

@@ -3,12 +3,16 @@ stabilizers that distribute wrenches."""
 
 from __future__ import annotations
 
+import bisect
+import math
+
 import numpy as np
 
 from centroidal.contacts import ContactSet, ContactSurface, contact_set
 from centroidal.rotations import to_matrix
 from robots.scene import ContactPhase, Scenario
 from robots.spec import RobotDescription
+from robots.types import Footstep
 
 CONTACT_MARGIN = 0.01
 """[m] inner margin of the contact polygons (Murooka: "contact polygon vertices with inner
@@ -60,3 +64,55 @@ def limb_targets(scenario: Scenario, limbs, start_pose: dict, t: float):
         tracked[k] = pose is not None
         positions[k], orientations[k] = pose if pose is not None else start_pose[limb.name]
     return positions, orientations, tracked
+
+
+def yaw_of(quaternion_wxyz) -> float:
+    """The heading [rad] of an orientation (w, x, y, z): the angle of its x axis about world Z."""
+    w, x, y, z = (float(v) for v in quaternion_wxyz)
+    return math.atan2(2.0 * (w * z + x * y), 1.0 - 2.0 * (y * y + z * z))
+
+
+def scheduled_footsteps(scenario: Scenario) -> tuple[Footstep, ...]:
+    """Every contact the scenario's sequence makes after t = 0, in touchdown order: a limb in
+    contact in a phase but not in the one before touches down at the phase's start; it lifted
+    off at the end of its last contact (the first phase's limbs are standing, not steps)."""
+    steps = []
+    last_end: dict[str, float] = {}
+    previous: tuple[str, ...] = scenario.phases[0].limbs
+    for contact in scenario.phases[0].contacts:
+        last_end[contact.limb] = scenario.phases[0].end
+    for phase in scenario.phases[1:]:
+        for contact in phase.contacts:
+            if contact.limb not in previous:
+                orientation = np.array(contact.orientation_world, dtype=float)
+                steps.append(
+                    Footstep(
+                        contact.limb,
+                        np.array(contact.position_world, dtype=float),
+                        yaw_of(orientation),
+                        last_end.get(contact.limb, phase.start),
+                        phase.start,
+                        orientation,
+                    )
+                )
+            last_end[contact.limb] = phase.end
+        previous = phase.limbs
+    return tuple(sorted(steps, key=lambda s: s.touchdown_time))
+
+
+class FootstepSchedule:
+    """A fixed schedule's upcoming footsteps: `upcoming(t)` is the tuple of those touching down
+    after t [s], the same object until the next touchdown passes (cheap to call every period,
+    and cheap for the runner to notice a change: by identity)."""
+
+    def __init__(self, footsteps: tuple[Footstep, ...]) -> None:
+        self.footsteps = footsteps
+        self.touchdowns = [s.touchdown_time for s in footsteps]
+        self._index = -1
+        self._upcoming: tuple[Footstep, ...] = footsteps
+
+    def upcoming(self, t: float) -> tuple[Footstep, ...]:
+        index = bisect.bisect_right(self.touchdowns, t)
+        if index != self._index:
+            self._index, self._upcoming = index, self.footsteps[index:]
+        return self._upcoming

@@ -64,6 +64,12 @@ class RobotModel:
         """Centre of mass [m]."""
         return pin.centerOfMass(self.model, self.data, self.configuration(state)).copy()
 
+    def com_state_world(self, state: RobotState) -> tuple[np.ndarray, np.ndarray]:
+        """Centre of mass [m] and its velocity [m/s], in one pass."""
+        q = self.configuration(state)
+        com = pin.centerOfMass(self.model, self.data, q, self.velocity(state, q))
+        return com.copy(), self.data.vcom[0].copy()
+
     def com_velocity_world(self, state: RobotState) -> np.ndarray:
         """Centre-of-mass velocity [m/s]."""
         pin.centerOfMass(self.model, self.data, self.configuration(state), self.velocity(state))

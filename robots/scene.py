@@ -103,6 +103,8 @@ class Scenario:
     goal_offset_world: tuple[float, float] | None = None
     """Where a walk's gait command ends, relative to where it starts (x, y) [m]; None: no
     walk."""
+    goal_yaw: float | None = None
+    """How far a walk's gait command turns [rad] (left positive); None: no walk."""
 
     def phase_at(self, time: float) -> ContactPhase:
         """The contact phase holding at `time` [s] (the last one after the end)."""

@@ -120,6 +120,21 @@ class MassProperties:
 
 
 @dataclass(frozen=True)
+class Footstep:
+    """A contact a plan intends to make (DESIGN.md, adaptive footsteps): `limb` lifts off at
+    `liftoff_time` [s] (in the past for a limb already moving) and touches down at
+    `touchdown_time` [s] with its contact frame at `position_world` (3,) [m] and `yaw` [rad]
+    (about the world Z axis), orientation `orientation_world` (w, x, y, z)."""
+
+    limb: str
+    position_world: np.ndarray
+    yaw: float
+    liftoff_time: float
+    touchdown_time: float
+    orientation_world: np.ndarray
+
+
+@dataclass(frozen=True)
 class CentroidalPlan:
     """A planner's output for one control period (world frame, SI units).
 
@@ -162,6 +177,11 @@ class CentroidalPlan:
     solver_failures: int = 0
     """How many periods so far the planner's optimisation failed and it fell back on its last
     feasible plan (cumulative over the episode; always 0 for planners without a solver)."""
+    footsteps: tuple[Footstep, ...] = ()
+    """The contacts the plan intends to make next (touchdown after now), in touchdown order:
+    a fixed-schedule planner's come from the scenario's contact sequence, an adaptive
+    planner's from its own choice. The runner records the last version of each before its
+    touchdown and compares it with the touchdown that happened (`bench.footsteps`)."""
 
     def desired_state(self) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
         """(c^d, c'^d, base orientation^d, omega^d), falling back to the planned state."""

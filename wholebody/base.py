@@ -26,7 +26,9 @@ WHOLE_BODY_LAYERS = Registry(
     "whole-body layer", modules=("wholebody.ik_feedforward", "wholebody.ik_only")
 )
 register = WHOLE_BODY_LAYERS.register
-DEFAULT_WHOLE_BODY = "ik_feedforward"
+DEFAULT_WHOLE_BODY = "ik"
+"""The layer of a controller that names none: the IK to joint position servos, as Murooka et
+al.'s robot (Sec. V-A1) and every position-controlled humanoid of the papers here."""
 
 
 def make_whole_body(name: str, model: RobotModel, dt: float) -> WholeBodyLayer:

@@ -42,6 +42,7 @@ from bench.limits import (
     SCALE_RANGE,
     SEED_LIMIT,
 )
+from bench.push_protocol import PushProtocol
 from bench.scenarios import WALK_STEPS
 from tests.bench.test_cli import stub_runners
 
@@ -429,8 +430,9 @@ def broken_spec(draw) -> tuple[dict, str]:
         )
         push = {"dv": [0.2], "standing_push_time": start, "survival_time": survival}
         return {**VALID_PUSH_SPEC, "push": push}, "'push.survival_time'"
-    if how == "walking":  # fits standing (0.3 s + survival) but not the walk's ~3 s start
-        survival = draw(st.floats(597.0, MAX_EPISODE_SECONDS - 0.31))
+    if how == "walking":  # fits standing (1.6 s + survival) but not the walk's ~3 s start
+        standing = PushProtocol(dv=(0.2,)).standing_push_time + 0.1
+        survival = draw(st.floats(597.0, MAX_EPISODE_SECONDS - standing - 0.01))
         push = {"dv": [0.2], "phases": ["walking"], "survival_time": survival}
         return {**VALID_PUSH_SPEC, "push": push}, "a walking push at scale 1"
     levels = draw(st.integers(101, 300))  # levels x count > MAX_EPISODES

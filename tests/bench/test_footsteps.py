@@ -1,11 +1,23 @@
 """Footsteps taken, measured: debouncing of contact chatter, the sole pose at touchdown, the
 summary fields, and a walk's steps in both simulators."""
 
+from dataclasses import replace
+
 import numpy as np
+import pandas as pd
 import pytest
 
-from bench.footsteps import FootstepRecorder, footstep_summary
+from bench.footsteps import (
+    COLUMNS,
+    PLANNED_COLUMNS,
+    FootstepRecorder,
+    PlannedFootstepRecorder,
+    compare_with_plan,
+    footstep_summary,
+)
 from bench.runner import EpisodeSpec, run_episode
+from centroidal.rotations import IDENTITY_WXYZ
+from robots.types import Footstep
 
 LIMBS = ("left_foot", "right_foot", "left_hand", "right_hand")
 
@@ -111,3 +123,98 @@ def test_standing_takes_no_step_and_has_no_goal():
     assert result.summary["steps_taken"] == 0
     assert result.summary["final_position_error_m"] is None
     assert result.summary["distance_walked_m"] < 0.001
+
+
+def _step(limb, x, liftoff, touchdown):
+    return Footstep(limb, np.array([x, 0.0, 0.0]), 0.0, liftoff, touchdown, IDENTITY_WXYZ)
+
+
+def test_the_planned_steps_are_the_last_versions_before_their_touchdown():
+    """An adaptive plan moves the right foot's step twice before it lands at t = 0.5 s: the
+    record keeps the last version; a step the plan drops is not kept; a step not yet due at the
+    end is not kept either."""
+    recorder = PlannedFootstepRecorder()
+    first, moved, moved_again = (_step("right_foot", x, 0.1, 0.5) for x in (0.2, 0.25, 0.3))
+    left, dropped = _step("left_foot", 0.4, 0.6, 1.0), _step("left_foot", 0.9, 1.1, 1.4)
+    plans = [(0.0, (first, left)), (0.2, (moved, left)), (0.4, (moved_again, left))]
+    plans += [(0.5, (left, dropped)), (0.8, (left,)), (1.0, ()), (1.2, ())]
+    for t, footsteps in plans:
+        recorder.observe(t, footsteps)
+    table = recorder.table()
+    assert table["limb"].tolist() == ["right_foot", "left_foot"]
+    assert table["x_m"].tolist() == [0.3, 0.4]
+    assert table["touchdown_time_s"].tolist() == [0.5, 1.0]
+
+
+def test_steps_taken_are_compared_with_the_nearest_planned_step_of_the_limb():
+    taken = pd.DataFrame(
+        [("right_foot", 0.1, 0.51, 0.303, 0.004, 0.0, 0.01, 0.3)], columns=list(COLUMNS)
+    )
+    planned = pd.DataFrame(
+        [("right_foot", 0.1, 0.5, 0.3, 0.0, 0.0, 0.0), ("right_foot", 1.1, 1.5, 0.8, 0, 0, 0)],
+        columns=list(PLANNED_COLUMNS),
+    )
+    compared = compare_with_plan(taken, planned)
+    assert compared["planned_touchdown_time_s"][0] == 0.5
+    assert compared["touchdown_time_error_s"][0] == pytest.approx(0.01)
+    assert compared["touchdown_position_error_m"][0] == pytest.approx(0.005)
+    summary = footstep_summary(compared, None, None, None)
+    assert summary["touchdown_time_error_max_s"] == pytest.approx(0.01)
+    assert summary["touchdown_position_error_max_m"] == pytest.approx(0.005)
+
+
+def test_the_runner_compares_with_the_plan_not_the_scenario(monkeypatch):
+    """A planner whose plans put every footstep 1 m to the side of the scenario's: the
+    comparison is with what the plan said (errors of about 1 m), so the runner read the plan."""
+    from planners import preview_control
+
+    original = preview_control.PreviewControlPlanner.plan
+
+    def shifted(self, t, state):
+        plan = original(self, t, state)
+        if not hasattr(self, "_shifted"):
+            self._shifted = {}
+        key = tuple(s.touchdown_time for s in plan.footsteps)
+        if key not in self._shifted:
+            self._shifted[key] = tuple(
+                replace(s, position_world=s.position_world + np.array([0.0, 1.0, 0.0]))
+                for s in plan.footsteps
+            )
+        return replace(plan, footsteps=self._shifted[key])
+
+    monkeypatch.setattr(preview_control.PreviewControlPlanner, "plan", shifted)
+    result = run_episode(
+        EpisodeSpec(
+            planner="preview_control",
+            stabilizer="centroidal_feedback",
+            sim="mujoco",
+            scenario="walk",
+            duration=2.0,
+        )
+    )
+    assert result.summary["steps_taken"] == 1
+    assert result.footsteps["touchdown_position_error_m"][0] > 0.9  # the scenario's: < 0.05
+
+
+@pytest.mark.xfail(
+    strict=True,
+    reason="measured on walk (2026-11-24): touchdowns up to 151 ms early and 27 mm off with the "
+    "paper's ik layer, up to 13 ms late and 16 mm off with ik_feedforward (the feet drift back "
+    "about 1.5 mm per step); issue 15 asks 5 mm and one period",
+)
+@pytest.mark.parametrize("whole_body", ["ik", "ik_feedforward"])
+@pytest.mark.parametrize("sim", ["mujoco", "pybullet"])
+def test_touchdowns_agree_with_the_plan_within_5_mm_and_one_period(sim, whole_body):
+    result = run_episode(
+        EpisodeSpec(
+            planner="preview_control",
+            stabilizer="centroidal_feedback",
+            sim=sim,
+            scenario="walk",
+            whole_body=whole_body,
+        )
+    )
+    summary = result.summary
+    assert summary["steps_taken"] == 10
+    assert summary["touchdown_time_error_max_s"] <= 0.002
+    assert summary["touchdown_position_error_max_m"] <= 0.005

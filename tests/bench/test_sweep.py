@@ -190,7 +190,7 @@ def recording_work(episode):
 
 def test_longest_episodes_start_first(tmp_path: Path, monkeypatch):
     """A plain scenario at its own length (duration None: the walks of the main job) starts
-    before the 3.3 s push episodes, so that no long episode is left for the end."""
+    before the 4.6 s push episodes, so that no long episode is left for the end."""
     log = tmp_path / "order.txt"
     monkeypatch.setenv(_ORDER_ENV, str(log))
     spec = spec_from_mapping(
@@ -205,4 +205,4 @@ def test_longest_episodes_start_first(tmp_path: Path, monkeypatch):
     started = log.read_text().splitlines()
     assert len(started) == 7  # 1 stand + 2 levels x 3 pushes
     assert started[0] == "stand None"
-    assert all(line == "stand_push 3.3" for line in started[1:])
+    assert all(line == "stand_push 4.6" for line in started[1:])  # 1.5 + 0.1 + 3 s

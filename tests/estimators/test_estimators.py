@@ -1,11 +1,14 @@
 """Estimators on a standing robot: the proprioceptive estimate against ground truth, and the
 measured ZMP against the CoM projection (at rest the ground reaction passes through the CoM)."""
 
+from types import SimpleNamespace
+
 import numpy as np
 import pytest
 
 from estimators.base import make_estimator
 from estimators.ground_truth import GroundTruthEstimator
+from estimators.kinematic_inertial import KinematicInertialEstimator
 from estimators.proprioceptive import ProprioceptiveEstimator
 from robots.humanoid import humanoid
 from robots.model import RobotModel
@@ -19,10 +22,13 @@ def model():
 
 
 @pytest.mark.parametrize("sim_name", ["mujoco", "pybullet"])
-def test_proprioceptive_matches_ground_truth_while_standing(model, sim_name):
+@pytest.mark.parametrize("kind", [ProprioceptiveEstimator, KinematicInertialEstimator])
+def test_proprioceptive_matches_ground_truth_while_standing(model, sim_name, kind):
+    """Without a plan, `kinematic_inertial` anchors the feet where they stand, as
+    `proprioceptive` does."""
     initial = model.standing_state()
     command = model.hold_command(initial)
-    truth, proprio = GroundTruthEstimator(model), ProprioceptiveEstimator(model)
+    truth, proprio = GroundTruthEstimator(model), kind(model)
     sim = make_simulator(sim_name)
     try:
         sensors = sim.reset(model.robot, Scene(), initial)
@@ -47,6 +53,47 @@ def test_proprioceptive_matches_ground_truth_while_standing(model, sim_name):
     assert b.contact_flag_limb.tolist() == [True, True, False, False]
 
 
+@pytest.mark.parametrize("sim_name", ["mujoco", "pybullet"])
+def test_kinematic_inertial_puts_the_stance_feet_where_the_plan_holds_them(model, sim_name):
+    """A plan that holds both feet 50 mm forward and 30 mm right of where they stand: the
+    estimated base and CoM are the true ones moved by that offset, the orientation the IMU's,
+    and a foot the plan does not hold (lifted in the plan) carries no weight in the estimate."""
+    initial = model.standing_state()
+    command = model.hold_command(initial)
+    offset = np.array([0.05, -0.03, 0.0])
+    feet = [k for k, limb in enumerate(model.robot.limbs) if limb.name.endswith("foot")]
+    targets = np.zeros((len(model.robot.limbs), 3))
+    for k in feet:
+        position, _ = model.frame_pose(initial, model.robot.limbs[k].contact_frame)
+        targets[k] = position + offset
+    both = SimpleNamespace(
+        contact_limbs=tuple(model.robot.limbs[k].name for k in feet),
+        limb_target_position_world=targets,
+    )
+    elsewhere = targets.copy()
+    elsewhere[feet[1]] += [0.2, 0.0, 0.0]  # a lifted foot's target: must not move the estimate
+    one = SimpleNamespace(
+        contact_limbs=both.contact_limbs[:1], limb_target_position_world=elsewhere
+    )
+    truth, anchored = GroundTruthEstimator(model), KinematicInertialEstimator(model)
+    sim = make_simulator(sim_name)
+    try:
+        sensors = sim.reset(model.robot, Scene(), initial)
+        truth.reset(initial, sensors)
+        anchored.reset(initial, sensors)
+        gaps = []
+        for k in range(500):  # 1 s: both feet held, then only the first
+            anchored.follow(both if k < 250 else one)
+            sensors = sim.step(command)
+            a, b = truth.estimate(sensors), anchored.estimate(sensors)
+            gaps.append(np.linalg.norm(b.com_position_world - a.com_position_world - offset))
+    finally:
+        sim.close()
+    assert max(gaps) < 0.002  # against a 58 mm offset
+    np.testing.assert_allclose(b.base_orientation_world, a.base_orientation_world, atol=1e-9)
+    assert anchored.planned_contact[feet].tolist() == [True, False]
+
+
 def test_unknown_estimator_lists_the_known_ones(model):
-    with pytest.raises(KeyError, match="ground_truth, proprioceptive"):
+    with pytest.raises(KeyError, match="ground_truth, kinematic_inertial, proprioceptive"):
         make_estimator("kalman", model)

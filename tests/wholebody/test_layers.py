@@ -74,12 +74,15 @@ def test_both_layers_hold_a_standing_robot(sim, layer):
 
 def test_controllers_name_their_whole_body_layer():
     assert controller_spec("hold+posture").whole_body == DEFAULT_WHOLE_BODY
-    triple = controller_spec("preview_control+centroidal_feedback+ik")
+    paper = controller_spec("preview_control+centroidal_feedback")
+    assert paper.whole_body == "ik"  # Murooka Sec. V-A1: IK joint angles to the servos
+    triple = controller_spec("preview_control+centroidal_feedback+ik_feedforward")
     assert (triple.planner, triple.stabilizer, triple.whole_body) == (
         "preview_control",
         "centroidal_feedback",
-        "ik",
+        "ik_feedforward",
     )
-    assert triple.name == "preview_control+centroidal_feedback+ik"
+    assert triple.name == "preview_control+centroidal_feedback+ik_feedforward"
+    assert controller_spec("preview_control+centroidal_feedback+ik") == paper
     with pytest.raises(KeyError, match="whole-body layers ik, ik_feedforward"):
         controller_spec("hold+posture+torque_magic")
