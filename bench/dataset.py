@@ -41,6 +41,7 @@ LATENCY_STAGES = (
     "stabilizer",
     "whole_body",
     "sim",
+    "sim_engine",
     "control_total",
     "reference",
     "preview",

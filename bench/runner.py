@@ -319,6 +319,7 @@ def run_episode(spec: EpisodeSpec, progress: MutableSequence[float] | None = Non
             start = time.perf_counter_ns()
             sensors = sim.step(command)
             timings["sim"] = time.perf_counter_ns() - start
+            timings["sim_engine"] = sim.engine_ns
 
             summary["solver_failures"] = int(plan.solver_failures)
             recorder.observe(t, state.contact_flag_limb.tolist())

@@ -34,6 +34,7 @@ class MissingDependencyError(ImportError):
 
 class Simulator(Protocol):
     name: str
+    engine_ns: int  # the engine's own work in the last step [ns] (`SimulatorBase.engine_ns`)
 
     def reset(self, robot: RobotDescription, scene: Scene, initial: RobotState) -> Sensors: ...
     def step(self, command: JointCommand) -> Sensors: ...
@@ -144,6 +145,10 @@ class SimulatorBase(abc.ABC):
         self._torque_limit = np.zeros(0)
         self._last_torque = np.zeros(0)
         self._limb_links: tuple[str, ...] = ()
+        self.engine_ns = 0
+        """[ns] the engine's own work in the last `step`: its physics steps and, for MuJoCo,
+        the forward pass that computes the sensors (the rest of the step is ours: the servo
+        law, pushes, reading and converting the sensors, fall checks)."""
 
     # ----------------------------------------------------------------- library primitives
     @abc.abstractmethod
@@ -189,6 +194,7 @@ class SimulatorBase(abc.ABC):
         """Advance one control period: the servo law and pushes at every physics step."""
         assert self.robot is not None and self.scene is not None, "reset() first"
         substeps = self.scene.substeps
+        self.engine_ns = 0
         for substep in range(substeps):
             q, dq = self._joint_state()
             torque = servo_torque(command, q, dq, self._torque_limit)

@@ -10,6 +10,8 @@ Physics settings (identical intent to `sims.pybullet_sim`; see README "Simulator
 
 from __future__ import annotations
 
+import time
+
 import mujoco
 import numpy as np
 
@@ -176,6 +178,7 @@ class MujocoSimulator(SimulatorBase):
         d.xfrc_applied[:] = 0.0
         for link, force in forces:  # xfrc_applied acts at the body's centre of mass
             d.xfrc_applied[self._body_id[link], :3] += force
+        start = time.perf_counter_ns()
         if self._forwarded:
             # mj_step = mj_step1 (positions, velocities: independent of ctrl and xfrc_applied)
             # + mj_step2 (actuation, acceleration, constraints, integration); the state's
@@ -184,6 +187,7 @@ class MujocoSimulator(SimulatorBase):
             self._forwarded = False
         else:
             mujoco.mj_step(self.model, d)
+        self.engine_ns += time.perf_counter_ns() - start
 
     def _contacts(self) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         """Active contacts between a robot geom and a scene geom, as arrays over the contacts:
@@ -221,7 +225,9 @@ class MujocoSimulator(SimulatorBase):
     def _read_sensors(self) -> Sensors:
         m, d = self.model, self.data
         self._check_warnings()
+        start = time.perf_counter_ns()
         mujoco.mj_forward(m, d)  # sensors, contacts and poses of the state after the step
+        self.engine_ns += time.perf_counter_ns() - start
         self._forwarded = True
         self._contact_cache = None
         assert self.robot is not None

@@ -21,6 +21,7 @@ from __future__ import annotations
 import math
 import os
 import sys
+import time
 
 import numpy as np
 from scipy.spatial.transform import Rotation
@@ -251,7 +252,9 @@ class PybulletSimulator(SimulatorBase):
             )
         if last:  # the accelerometer differences the IMU velocity over the last step
             self._imu_velocity_before = self._imu_state()[2]
+        start = time.perf_counter_ns()
         pb.stepSimulation(physicsClientId=c)
+        self.engine_ns += time.perf_counter_ns() - start
 
     def _contacts(self) -> tuple[list[int], np.ndarray, np.ndarray]:
         """Touching contact points as (robot link indices, points world (n, 3) [m], forces on

@@ -124,6 +124,17 @@ def test_summary_contract(standing, sim):
 
 
 @pytest.mark.parametrize("sim", SIMS)
+def test_the_engines_own_work_is_timed_inside_the_simulator_stage(standing, sim):
+    """`t_sim_engine_us` (the engine's stepping, and MuJoCo's sensor forward pass) is measured
+    inside the simulator stage `t_sim_us`: positive and never more than it, every period."""
+    trace = standing[sim].trace
+    engine, stage = trace["t_sim_engine_us"].to_numpy(), trace["t_sim_us"].to_numpy()
+    assert (engine > 0).all()
+    assert (engine <= stage).all()
+    assert standing[sim].summary["latency_us"]["sim_engine"]["median"] > 0
+
+
+@pytest.mark.parametrize("sim", SIMS)
 def test_small_push_survived_large_push_falls(sim):
     small = run_episode(
         EpisodeSpec(
