@@ -26,7 +26,9 @@ def test_loop(benchmark, controller, sim):
     )
     result = benchmark.pedantic(run_episode, args=(episode,), rounds=1, iterations=1)
     latency = result.summary["latency_us"]
-    assert result.summary["status"] == "ok", result.summary["error"]
+    # `hold` + `posture` does not walk: its periods up to the fall are timed all the same
+    assert result.summary["status"] in ("ok", "fell"), result.summary["error"]
+    benchmark.extra_info["status"] = result.summary["status"]
     medians = {stage: latency[stage]["median"] for stage in STAGES}
     medians["control_total"] = latency["control_total"]["median"]
     benchmark.extra_info.update({f"{k}_median_us": round(v, 1) for k, v in medians.items()})
