@@ -708,10 +708,13 @@ def _list(args: argparse.Namespace) -> int:
     from estimators.base import ESTIMATORS
     from planners.base import PLANNERS
     from stabilizers.base import STABILIZERS
-    from wholebody.base import WHOLE_BODY_LAYERS
+    from wholebody.base import DEFAULT_WHOLE_BODY, WHOLE_BODY_LAYERS
 
-    def described(registry) -> dict[str, str]:
-        return {n: registry.get(n).description for n in registry.names()}
+    def described(registry, default: str | None = None) -> dict[str, str]:
+        return {
+            n: registry.get(n).description + (" (default)" if n == default else "")
+            for n in registry.names()
+        }
 
     print("controllers (planner, stabilizer, whole-body layer):")
     for name, spec in CONTROLLERS.items():
@@ -723,8 +726,8 @@ def _list(args: argparse.Namespace) -> int:
     sections = {
         "planners": described(PLANNERS),
         "stabilizers": described(STABILIZERS),
-        "whole-body layers": described(WHOLE_BODY_LAYERS),
-        "estimators": described(ESTIMATORS),
+        "whole-body layers": described(WHOLE_BODY_LAYERS, DEFAULT_WHOLE_BODY),
+        "estimators": described(ESTIMATORS, DEFAULT_ESTIMATOR),
         "scenarios": {n: s.description for n, s in SCENARIOS.items()},
         "simulators": {n: "" for n in SIMULATORS},
     }

@@ -15,7 +15,5 @@ class GroundTruthEstimator(EstimatorBase):
 
 
 register(
-    ComponentSpec(
-        "ground_truth", GroundTruthEstimator, "base pose and twist from the simulator (default)"
-    )
+    ComponentSpec("ground_truth", GroundTruthEstimator, "base pose and twist from the simulator")
 )

@@ -78,6 +78,6 @@ register(
     ComponentSpec(
         "ik_feedforward",
         IkFeedforwardLayer,
-        "IK joint targets plus feed-forward torques g(q) - J_c^T w^d (default)",
+        "IK joint targets plus feed-forward torques g(q) - J_c^T w^d",
     )
 )

@@ -296,3 +296,37 @@ def test_closed_stdout_pipe_ends_quietly():
     assert process.returncode == 1
     assert "Traceback" not in err.decode()
     assert "BrokenPipeError" not in err.decode()
+
+
+def test_list_shows_every_registry_and_marks_the_defaults():
+    from bench.controllers import CONTROLLERS
+    from estimators import DEFAULT_ESTIMATOR
+    from estimators.base import ESTIMATORS
+    from wholebody.base import DEFAULT_WHOLE_BODY, WHOLE_BODY_LAYERS
+
+    result = run_cli("list")
+    assert result.returncode == 0, result.stderr
+    sections: dict[str, list[str]] = {}
+    for line in result.stdout.splitlines():
+        if not line.startswith(" "):
+            current = sections.setdefault(line.rstrip(":"), [])
+        else:
+            current.append(line.strip())
+    assert set(sections) >= {
+        "controllers (planner, stabilizer, whole-body layer)",
+        "planners",
+        "stabilizers",
+        "whole-body layers",
+        "estimators",
+        "scenarios",
+        "simulators",
+    }
+    for name in CONTROLLERS:
+        assert name in sections["controllers (planner, stabilizer, whole-body layer)"]
+    for title, registry, default in (
+        ("whole-body layers", WHOLE_BODY_LAYERS, DEFAULT_WHOLE_BODY),
+        ("estimators", ESTIMATORS, DEFAULT_ESTIMATOR),
+    ):
+        lines = sections[title]
+        assert [line.split()[0] for line in lines] == list(registry.names())
+        assert [line.split()[0] for line in lines if line.endswith("(default)")] == [default]
