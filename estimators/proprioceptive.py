@@ -77,7 +77,7 @@ class ProprioceptiveEstimator(EstimatorBase):
             base_velocity_local = weights @ np.array(velocities)
             self.base_velocity = rotation @ base_velocity_local
         else:  # flight: carry on with the last velocity
-            self.base_position = self.base_position + self.base_velocity * dt
+            self._flight(dt)
         self.in_contact = stance
         state = RobotState(
             self.base_position.copy(),
@@ -88,6 +88,10 @@ class ProprioceptiveEstimator(EstimatorBase):
             sensors.joint_velocity,
         )
         return self._complete(state, sensors)
+
+    def _flight(self, dt: float) -> None:
+        """No limb carries weight: the base moves on with its last velocity over dt [s]."""
+        self.base_position = self.base_position + self.base_velocity * dt
 
     def _stance(self, vertical_force: np.ndarray) -> np.ndarray:
         """(n_limbs,) bool: the limbs taken as not moving, from their vertical forces [N]."""

@@ -97,3 +97,29 @@ def test_kinematic_inertial_puts_the_stance_feet_where_the_plan_holds_them(model
 def test_unknown_estimator_lists_the_known_ones(model):
     with pytest.raises(KeyError, match="ground_truth, kinematic_inertial, proprioceptive"):
         make_estimator("kalman", model)
+
+
+def test_kinematic_inertial_holds_the_base_when_no_limb_carries_weight(model):
+    """Sensors that show no contact force (a bounce): the base stays where the last stance
+    put it, whatever velocity was estimated as the feet unloaded."""
+    from dataclasses import replace
+
+    initial = model.standing_state()
+    sim = make_simulator("mujoco")
+    try:
+        sensors = sim.reset(model.robot, Scene(), initial)
+        estimator = KinematicInertialEstimator(model)
+        estimator.reset(initial, sensors)
+        sensors = sim.step(model.hold_command(initial))
+        before = estimator.estimate(sensors).base_position_world
+        estimator.base_velocity = np.array([0.5, 0.0, 1.0])  # an outlier, as in the fall
+        for k in range(10):
+            airborne = replace(
+                sensors,
+                time=sensors.time + 0.002 * (k + 1),
+                contact_wrench_limb=np.zeros_like(sensors.contact_wrench_limb),
+            )
+            after = estimator.estimate(airborne).base_position_world
+    finally:
+        sim.close()
+    np.testing.assert_array_equal(after, before)
