@@ -12,6 +12,7 @@ the plan puts them.
   and the base is placed so that the stance limbs, weighted by their vertical forces, are at
   their anchors.
 - Base linear velocity: the stance limbs do not move (as `proprioceptive`).
+- No limb carrying weight: the base stays where the last stance put it (`_flight`).
 
 The CoM a controller then feeds back is measured relative to its own planned contacts: a foot
 that lands 5 mm short of its target moves the measured CoM, not the plan. With the simulator's
