@@ -26,12 +26,11 @@ from bench.footsteps import (
 )
 from bench.provenance import provenance
 from bench.scenarios import make_scenario
-from centroidal.rotations import to_matrix
+from centroidal.rotations import to_matrix, yaw_of
 from centroidal.support import margin_inside, support_halfplanes, surface_vertices_world
 from estimators.base import DEFAULT_ESTIMATOR, make_estimator
 from planners.base import planner_spec
 from robots.humanoid import humanoid
-from robots.limbs import yaw_of
 from robots.model import RobotModel
 from robots.types import CentroidalPlan, JointCommand, WholeBodyTargets
 from sims.base import make_simulator

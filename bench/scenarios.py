@@ -28,6 +28,7 @@ from dataclasses import dataclass, replace
 
 import numpy as np
 
+from centroidal.rotations import heading_quaternion
 from robots.model import RobotModel
 from robots.registry import FLAT_GROUND
 from robots.scene import Contact, ContactPhase, PushEvent, Scenario, Scene
@@ -256,7 +257,7 @@ def _footholds(
                     offset[2],
                 ]
             )
-            poses.append((foot, (float(np.cos(heading / 2)), 0.0, 0.0, float(np.sin(heading / 2)))))
+            poses.append((foot, tuple(float(v) for v in heading_quaternion(heading))))
         result[name] = poses
     return result
 

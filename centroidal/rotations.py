@@ -171,3 +171,19 @@ def to_matrices(quaternions_wxyz: np.ndarray) -> np.ndarray:
     q = quaternions_wxyz
     q = q / np.sqrt((q * q).sum(axis=-1, keepdims=True))
     return np.einsum("ijkl,nk,nl->nij", _QUADRATIC, q, q)
+
+
+def yaw_of(quaternion_wxyz) -> float:
+    """The heading [rad] of an orientation (w, x, y, z): the angle of its x axis about world Z."""
+    w, x, y, z = (float(v) for v in quaternion_wxyz)
+    return math.atan2(2.0 * (w * z + x * y), 1.0 - 2.0 * (y * y + z * z))
+
+
+def heading_quaternion(yaw: float) -> np.ndarray:
+    """The level orientation (w, x, y, z) with heading `yaw` [rad]."""
+    return np.array([np.cos(yaw / 2), 0.0, 0.0, np.sin(yaw / 2)])
+
+
+def circular_mean(angles: np.ndarray) -> float:
+    """The mean direction [rad] of angles [rad] (atan2 of the summed sines and cosines)."""
+    return float(np.arctan2(np.sin(angles).sum(), np.cos(angles).sum()))

@@ -23,13 +23,12 @@ import numpy as np
 
 from centroidal.preview import TripleIntegratorPreview, output_preview_gains
 from centroidal.projection import DEFAULT_BACKEND, GRAVITY, WrenchProjector, project_resultant
-from centroidal.rotations import IDENTITY_WXYZ, from_matrix
+from centroidal.rotations import IDENTITY_WXYZ, from_matrix, heading_quaternion
 from centroidal.wrench import zmp_on_plane
 from planners.base import PlannerSpec, register
 from planners.reference import (
     com_reference,
     feet_heading,
-    heading_quaternion,
     support_centre,
     yaw_reference,
 )

@@ -14,7 +14,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from robots.limbs import yaw_of
+from centroidal.rotations import circular_mean, yaw_of
 from robots.scene import Scenario
 
 
@@ -62,8 +62,7 @@ def support_yaw(scenario: Scenario, time: float) -> float:
             raise ValueError(f"no contact at or before t = {time} s: no support reference")
         return support_yaw(scenario, earlier[-1].start)
     contacts = [c for c in phase.contacts if c.limb.endswith("foot")] or list(phase.contacts)
-    yaws = np.array([yaw_of(c.orientation_world) for c in contacts])
-    return float(np.arctan2(np.sin(yaws).sum(), np.cos(yaws).sum()))
+    return circular_mean(np.array([yaw_of(c.orientation_world) for c in contacts]))
 
 
 def yaw_reference(scenario: Scenario, dtau: float, n_samples: int) -> np.ndarray | None:
@@ -85,11 +84,6 @@ def yaw_reference(scenario: Scenario, dtau: float, n_samples: int) -> np.ndarray
     return np.unwrap(yaws)
 
 
-def heading_quaternion(yaw: float) -> np.ndarray:
-    """The level orientation (w, x, y, z) with heading `yaw` [rad]."""
-    return np.array([np.cos(yaw / 2), 0.0, 0.0, np.sin(yaw / 2)])
-
-
 def feet_heading(limbs, orientations_wxyz: np.ndarray) -> float:
     """The circular mean [rad] of the feet's target yaws (`limbs` with their target
     orientations (n, 4)): a smooth base heading for planners that plan no base rotation
@@ -101,6 +95,4 @@ def feet_heading(limbs, orientations_wxyz: np.ndarray) -> float:
             if limb.name.endswith("foot")
         ]
     )
-    if not len(yaws):
-        return 0.0
-    return float(np.arctan2(np.sin(yaws).sum(), np.cos(yaws).sum()))
+    return circular_mean(yaws) if len(yaws) else 0.0

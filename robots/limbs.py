@@ -4,12 +4,11 @@ stabilizers that distribute wrenches."""
 from __future__ import annotations
 
 import bisect
-import math
 
 import numpy as np
 
 from centroidal.contacts import ContactSet, ContactSurface, contact_set
-from centroidal.rotations import to_matrix
+from centroidal.rotations import to_matrix, yaw_of
 from robots.scene import ContactPhase, Scenario
 from robots.spec import RobotDescription
 from robots.types import Footstep
@@ -64,12 +63,6 @@ def limb_targets(scenario: Scenario, limbs, start_pose: dict, t: float):
         tracked[k] = pose is not None
         positions[k], orientations[k] = pose if pose is not None else start_pose[limb.name]
     return positions, orientations, tracked
-
-
-def yaw_of(quaternion_wxyz) -> float:
-    """The heading [rad] of an orientation (w, x, y, z): the angle of its x axis about world Z."""
-    w, x, y, z = (float(v) for v in quaternion_wxyz)
-    return math.atan2(2.0 * (w * z + x * y), 1.0 - 2.0 * (y * y + z * z))
 
 
 def scheduled_footsteps(scenario: Scenario) -> tuple[Footstep, ...]:
