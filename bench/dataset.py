@@ -112,13 +112,14 @@ ROW_SCHEMA = pa.schema(
         ("versions_json", _STRING),
         ("git_commit", _STRING),
         ("cpu", _STRING),
+        ("worker", _STRING),
     ]
 )
-# columns that depend on the machine's speed, not on the simulated physics
+# columns that depend on the machine's speed or on where an episode ran, not on the physics
 TIMING_COLUMNS = tuple(
     name
     for name in ROW_SCHEMA.names
-    if name.startswith("lat_") or name in ("wall_s", "real_time_factor")
+    if name.startswith("lat_") or name in ("wall_s", "real_time_factor", "worker")
 )
 
 
@@ -165,6 +166,7 @@ def summary_row(
         "final_yaw_error_rad",
         "git_commit",
         "cpu",
+        "worker",
     ):
         if key in summary:
             row[key] = summary[key]

@@ -3,8 +3,11 @@
 from __future__ import annotations
 
 import functools
+import os
 import platform
+import socket
 import subprocess
+import sys
 from importlib import metadata
 from pathlib import Path
 
@@ -65,5 +68,19 @@ def cpu() -> str:
     return platform.processor() or platform.machine()
 
 
+def worker() -> str:
+    """Where this episode runs: "ray:<node id>:<pid>" inside a Ray worker, else
+    "<host name>:<pid>" (so that a sweep's rows say which node and process ran them)."""
+    ray = sys.modules.get("ray")
+    if ray is not None and ray.is_initialized():
+        return f"ray:{ray.get_runtime_context().get_node_id()}:{os.getpid()}"
+    return f"{socket.gethostname()}:{os.getpid()}"
+
+
 def provenance() -> dict:
-    return {"versions": versions(), "git_commit": git_commit(), "cpu": cpu()}
+    return {
+        "versions": versions(),
+        "git_commit": git_commit(),
+        "cpu": cpu(),
+        "worker": worker(),
+    }

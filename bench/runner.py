@@ -31,7 +31,7 @@ from centroidal.support import margin_inside, support_halfplanes, surface_vertic
 from estimators.base import DEFAULT_ESTIMATOR, make_estimator
 from planners.base import planner_spec
 from robots.humanoid import humanoid
-from robots.model import RobotModel
+from robots.model import RobotModel, cached_model
 from robots.types import CentroidalPlan, JointCommand, WholeBodyTargets
 from sims.base import make_simulator
 from stabilizers.base import stabilizer_spec
@@ -181,6 +181,18 @@ def _latency(trace: pd.DataFrame) -> dict[str, dict[str, float]]:
     return result
 
 
+def clear_setup_caches() -> None:
+    """Forget every per-process set-up cache (robots, pinocchio models, compiled MuJoCo models,
+    idle PyBullet clients): the next episode sets up from scratch, as in a new worker."""
+    from sims import mujoco_sim, pybullet_sim  # imported here: both are optional backends
+
+    humanoid.cache_clear()
+    cached_model.cache_clear()
+    mujoco_sim.build_model.cache_clear()
+    while pybullet_sim._idle_clients:
+        pybullet_sim.pb.disconnect(physicsClientId=pybullet_sim._idle_clients.pop())
+
+
 def run_episode(spec: EpisodeSpec, progress: MutableSequence[float] | None = None) -> EpisodeResult:
     """Run one episode; never raises for a controller or simulator failure.
 
@@ -228,8 +240,8 @@ def run_episode(spec: EpisodeSpec, progress: MutableSequence[float] | None = Non
     sim = None
     try:
         np.random.seed(spec.seed)  # noqa: NPY002 - seeds any legacy-API randomness too
-        robot = humanoid(spec.scale)
-        model = RobotModel(robot)
+        robot = humanoid(spec.scale)  # both cached per process: set-up paid once per worker
+        model = cached_model(robot)
         scenario = make_scenario(
             spec.scenario,
             model,

@@ -23,6 +23,7 @@ mass, inertia, torque limit and gain by one factor so that the robot weighs exac
 
 from __future__ import annotations
 
+import functools
 from dataclasses import dataclass
 
 import numpy as np
@@ -93,9 +94,12 @@ class _Scaling:
         return self.length**-0.5
 
 
+@functools.lru_cache(maxsize=16)
 def humanoid(scale: float = 1.0, total_mass: float | None = None) -> RobotDescription:
     """The centrobench humanoid scaled by `scale` (1 -> 1.60 m); `total_mass` [kg] overrides
-    the mass that geometric scaling gives. Raises ValueError for a non-positive argument."""
+    the mass that geometric scaling gives. Raises ValueError for a non-positive argument.
+
+    Cached per process (the description is frozen): a sweep worker builds each robot once."""
     if not np.isfinite(scale) or scale <= 0:
         raise ValueError(f"scale must be a positive number, got {scale}")
     if total_mass is not None and (not np.isfinite(total_mass) or total_mass <= 0):

@@ -8,6 +8,7 @@ Conventions at this boundary: pinocchio's configuration stores the base quaterni
 
 from __future__ import annotations
 
+import functools
 import math
 
 import numpy as np
@@ -16,6 +17,15 @@ import pinocchio as pin
 from robots.build import generate
 from robots.spec import RobotDescription
 from robots.types import JointCommand, MassProperties, RobotState
+
+
+@functools.lru_cache(maxsize=8)
+def cached_model(robot: RobotDescription) -> RobotModel:
+    """The `RobotModel` of `robot`, built once per process (a sweep worker's episodes share
+    it). Sharing is safe because its only state is pinocchio's scratch `data`, which every
+    algorithm rewrites before reading (tests/bench/test_setup_cache.py: an episode after a fall
+    equals the same episode run first); components take their own `model.createData()`."""
+    return RobotModel(robot)
 
 
 class RobotModel:

@@ -20,7 +20,7 @@ import numpy as np
 from robots.scene import Scene
 from robots.spec import RobotDescription
 from robots.types import JointCommand, MassProperties, RobotState, Sensors
-from sims.servo import servo_torque
+from sims.kernels import servo_torque_kernel
 
 
 class SimulatorError(RuntimeError):
@@ -83,6 +83,15 @@ def quaternion_product(a, b) -> np.ndarray:
     )
 
 
+def contiguous(indices) -> slice | np.ndarray:
+    """`indices` (ints) as a slice when they are consecutive and increasing (indexing with a
+    slice gives a view and costs a sixth of fancy indexing), else as an index array."""
+    index = np.asarray(indices, dtype=int)
+    if len(index) and np.array_equal(index, np.arange(index[0], index[0] + len(index))):
+        return slice(int(index[0]), int(index[0]) + len(index))
+    return index
+
+
 _NEXT, _LAST = np.array([1, 2, 0]), np.array([2, 0, 1])  # component i of a x b: a_next b_last - ...
 
 
@@ -126,7 +135,9 @@ def limb_wrenches(
 
 def tilt_angle(quaternion_wxyz: np.ndarray) -> float:
     """Angle [rad] between the body's z axis and the world's z axis."""
-    _, x, y, _ = quaternion_wxyz
+    _, x, y, _ = (
+        quaternion_wxyz.tolist() if isinstance(quaternion_wxyz, np.ndarray) else quaternion_wxyz
+    )
     cos_tilt = 1.0 - 2.0 * (x * x + y * y)
     return math.acos(min(max(float(cos_tilt), -1.0), 1.0))
 
@@ -144,7 +155,14 @@ class SimulatorBase(abc.ABC):
         self._fall_reason: str | None = None
         self._torque_limit = np.zeros(0)
         self._last_torque = np.zeros(0)
-        self._limb_links: tuple[str, ...] = ()
+        self._limb_links: frozenset[str] = frozenset()
+        self._substeps = 1
+        self._checks = np.zeros(4)
+        """What a backend's sensor kernel found for the current state, when `_checks_fresh`:
+        the base's `tilt_angle` [rad], the number of scene contacts on links that are not
+        limbs, 1.0 if the joint and base positions are finite (else 0.0), and a backend's own
+        count (MuJoCo: instability warnings)."""
+        self._checks_fresh = False
         self.engine_ns = 0
         """[ns] the engine's own work in the last `step`: its physics steps and, for MuJoCo,
         the forward pass that computes the sensors (the rest of the step is ours: the servo
@@ -175,6 +193,13 @@ class SimulatorBase(abc.ABC):
     def _links_touching_scene(self) -> set[str]:
         """Names of robot links in contact with the ground or a scene box."""
 
+    def _other_links_touching_scene(self) -> set[str]:
+        """`_links_touching_scene` without the limbs' links; none when the sensor kernel
+        counted none for the current state."""
+        if self._checks_fresh and not self._checks[1]:
+            return set()
+        return self._links_touching_scene() - self._limb_links
+
     # ------------------------------------------------------------------------ protocol
     def reset(self, robot: RobotDescription, scene: Scene, initial: RobotState) -> Sensors:
         scene.validate()
@@ -185,7 +210,8 @@ class SimulatorBase(abc.ABC):
         self._fall_reason = None
         self._torque_limit = robot.array("torque_limit")
         self._last_torque = np.zeros(robot.n_joints)
-        self._limb_links = tuple(limb.link for limb in robot.limbs)
+        self._limb_links = frozenset(limb.link for limb in robot.limbs)
+        self._substeps = scene.substeps
         self._load(robot, scene)
         self.set_state(initial)
         return self._read_sensors()
@@ -193,11 +219,18 @@ class SimulatorBase(abc.ABC):
     def step(self, command: JointCommand) -> Sensors:
         """Advance one control period: the servo law and pushes at every physics step."""
         assert self.robot is not None and self.scene is not None, "reset() first"
-        substeps = self.scene.substeps
+        substeps, physics_dt = self._substeps, self.scene.physics_dt
+        servo = (
+            command.position,
+            command.velocity,
+            command.torque_feedforward,
+            command.kp,
+            command.kd,
+        )
         self.engine_ns = 0
         for substep in range(substeps):
             q, dq = self._joint_state()
-            torque = servo_torque(command, q, dq, self._torque_limit)
+            torque = servo_torque_kernel(*servo, q, dq, self._torque_limit)  # `servo_torque`
             forces = []
             if self._pushes:
                 forces = [(p.link, p.force_world) for p in self._pushes if p.steps_left > 0]
@@ -207,11 +240,9 @@ class SimulatorBase(abc.ABC):
                     p.steps_left -= 1
                 self._pushes = [p for p in self._pushes if p.steps_left > 0]
             self._last_torque = torque
-            self.time += self.scene.physics_dt
+            self.time += physics_dt
         sensors = self._read_sensors()
-        if not math.isfinite(
-            float(sensors.joint_position.sum()) + float(sensors.base_position_world.sum())
-        ):
+        if not self._state_finite(sensors):
             raise SimulatorError(f"{self.name}: non-finite state at t = {self.time:.3f} s")
         if self._fall_reason is None:
             self._fall_reason = self._detect_fall(sensors)
@@ -236,9 +267,23 @@ class SimulatorBase(abc.ABC):
         """Why the robot counts as fallen (first cause seen), or None."""
         return self._fall_reason
 
+    def _state_finite(self, sensors: Sensors) -> bool:
+        """The joint positions and the base position of `sensors` are finite."""
+        if self._checks_fresh:
+            return bool(self._checks[2])
+        return math.isfinite(
+            float(sensors.joint_position.sum()) + float(sensors.base_position_world.sum())
+        )
+
+    def _tilt(self, sensors: Sensors) -> float:
+        """`tilt_angle` of the base."""
+        if self._checks_fresh:
+            return float(self._checks[0])
+        return tilt_angle(sensors.base_orientation_world)
+
     def _detect_fall(self, sensors: Sensors) -> str | None:
         assert self.robot is not None and self.scene is not None
-        tilt = tilt_angle(sensors.base_orientation_world)
+        tilt = self._tilt(sensors)
         if tilt > self.scene.max_tilt:
             return (
                 f"base tilt {np.rad2deg(tilt):.1f} deg above {np.rad2deg(self.scene.max_tilt):.0f}"
@@ -246,7 +291,7 @@ class SimulatorBase(abc.ABC):
         height = sensors.base_position_world[2]
         if height < self.robot.fall_height:
             return f"base height {height:.3f} m below {self.robot.fall_height:.3f} m"
-        touching = self._links_touching_scene() - set(self._limb_links)
+        touching = self._other_links_touching_scene()
         if touching:
             return f"{', '.join(sorted(touching))} touching the scene"
         return None

@@ -10,6 +10,7 @@ Physics settings (identical intent to `sims.pybullet_sim`; see README "Simulator
 
 from __future__ import annotations
 
+import functools
 import time
 
 import mujoco
@@ -19,7 +20,15 @@ from robots.build import generate
 from robots.scene import Scene
 from robots.spec import RobotDescription
 from robots.types import MassProperties, RobotState, Sensors
-from sims.base import SimulatorBase, SimulatorError, limb_wrenches, quaternion_to_matrix
+from sims.base import (
+    SimulatorBase,
+    SimulatorError,
+    contiguous,
+    limb_wrenches,
+    quaternion_to_matrix,
+)
+from sims.kernels import mujoco_sensors
+from sims.sensor_buffer import SensorLayout
 
 CONTACT_SOLREF = (0.005, 1.0)
 SCENE_CONTYPE, SCENE_CONAFFINITY = 0, 1
@@ -50,8 +59,10 @@ def _keep_warning(message: str) -> None:
 mujoco.set_mju_user_warning(_keep_warning)
 
 
+@functools.lru_cache(maxsize=8)
 def build_model(robot: RobotDescription, scene: Scene) -> mujoco.MjModel:
-    """Compile robot + scene into an MjModel with the scene's physics settings."""
+    """Compile robot + scene into an MjModel with the scene's physics settings. Cached per
+    process (the simulator never changes its model; each episode gets a new MjData)."""
     spec = mujoco.MjSpec.from_file(str(generate(robot).mjcf))
     spec.option.timestep = scene.physics_dt
     spec.option.gravity = [0.0, 0.0, -scene.gravity]
@@ -103,17 +114,24 @@ class MujocoSimulator(SimulatorBase):
             return mujoco.mj_name2id(m, mujoco.mjtObj.mjOBJ_SITE, name)
 
         joint_ids = [jid(n) for n in robot.joint_names]
-        self._qpos_idx = np.array([m.jnt_qposadr[j] for j in joint_ids])
-        self._dof_idx = np.array([m.jnt_dofadr[j] for j in joint_ids])
+        # index arrays, as slices where contiguous (a view: 6x cheaper than fancy indexing)
+        self._qpos_idx = contiguous([m.jnt_qposadr[j] for j in joint_ids])
+        self._dof_idx = contiguous([m.jnt_dofadr[j] for j in joint_ids])
         actuator_ids = [
             mujoco.mj_name2id(m, mujoco.mjtObj.mjOBJ_ACTUATOR, n) for n in robot.joint_names
         ]
-        self._actuator_idx = np.array(actuator_ids)
+        self._actuator_idx = contiguous(actuator_ids)
         self._root_qpos = m.jnt_qposadr[jid("root")]
         self._root_dof = m.jnt_dofadr[jid("root")]
         self._body_id = {link.name: bid(link.name) for link in robot.links}
         self._body_name = {v: k for k, v in self._body_id.items()}
         self._limb_body = np.array([self._body_id[limb.link] for limb in robot.limbs])
+        # cfrc_ext is a spatial force about the subtree CoM of each body's root body
+        self._limb_root = m.body_rootid[self._limb_body]
+        self._limb_body_set = frozenset(self._limb_body.tolist())
+        self._limb_body_mask = np.zeros(m.nbody, dtype=bool)
+        self._limb_body_mask[self._limb_body] = True
+        self._limb_pushed = False  # a push acts on a limb's body (see `_limb_wrenches`)
         self._limb_site = np.array([sid(limb.contact_frame) for limb in robot.limbs])
         self._site_id = {f.name: sid(f.name) for f in robot.frames}
         self._scene_geom = np.array(
@@ -134,7 +152,35 @@ class MujocoSimulator(SimulatorBase):
             sensor("imu_gyro"),
             sensor("imu_accel"),
         )
+        self._geom_body = m.geom_bodyid.copy()
+        # numpy views of MjData's buffers (fixed for its lifetime), taken once: every attribute
+        # access through the bindings costs about 1 us per period once the control stages have
+        # evicted the bindings' code from the caches
+        d = self.data
+        self._qpos, self._qvel, self._ctrl = d.qpos, d.qvel, d.ctrl
+        self._sensordata, self._warnings = d.sensordata, d.warning.number
+        if isinstance(self._qpos_idx, slice) and isinstance(self._dof_idx, slice):
+            joint_views = (d.qpos[self._qpos_idx], d.qvel[self._dof_idx])
+            self._joint_views: tuple[np.ndarray, np.ndarray] | None = joint_views
+        else:
+            self._joint_views = None
+        self._layout = SensorLayout(robot.n_joints, len(robot.limbs))
+        self._joint_qpos = np.array([m.jnt_qposadr[j] for j in joint_ids])
+        self._joint_dof = np.array([m.jnt_dofadr[j] for j in joint_ids])
+        self._root_and_imu = np.array(
+            [
+                self._root_qpos,
+                self._root_dof,
+                self._imu_quat.start,
+                self._imu_gyro.start,
+                self._imu_accel.start,
+            ]
+        )
+        self._spatial_inputs = (d.cfrc_ext, d.subtree_com, d.site_xpos, d.site_xmat)
+        self._limb_inputs = (self._limb_body, self._limb_root, self._limb_site)
         self._contact_cache: tuple[np.ndarray, np.ndarray, np.ndarray] | None = None
+        self._touching_cache: np.ndarray | None = None
+        self._pushing = False  # xfrc_applied holds a push
         self._forwarded = False  # mj_forward has run on the current state
 
     def set_state(self, state: RobotState) -> None:
@@ -152,7 +198,8 @@ class MujocoSimulator(SimulatorBase):
         d.qacc_warmstart[:] = 0.0
         mujoco.mj_forward(self.model, d)
         self._forwarded = True
-        self._contact_cache = None
+        self._contact_cache = self._touching_cache = None
+        self._checks_fresh = False
 
     def ground_truth(self) -> RobotState:
         d, r, v = self.data, self._root_qpos, self._root_dof
@@ -167,17 +214,25 @@ class MujocoSimulator(SimulatorBase):
         )
 
     def _joint_state(self) -> tuple[np.ndarray, np.ndarray]:
-        return self.data.qpos[self._qpos_idx], self.data.qvel[self._dof_idx]
+        if self._joint_views is not None:
+            return self._joint_views
+        return self._qpos[self._qpos_idx], self._qvel[self._dof_idx]
 
     def _physics_step(
         self, torque: np.ndarray, forces: list[tuple[str, np.ndarray]], last: bool
     ) -> None:
         d = self.data
-        self._contact_cache = None
-        d.ctrl[self._actuator_idx] = torque
-        d.xfrc_applied[:] = 0.0
-        for link, force in forces:  # xfrc_applied acts at the body's centre of mass
-            d.xfrc_applied[self._body_id[link], :3] += force
+        self._contact_cache = self._touching_cache = None
+        self._checks_fresh = False
+        self._ctrl[self._actuator_idx] = torque
+        if forces or self._pushing:
+            d.xfrc_applied[:] = 0.0
+            self._limb_pushed = False
+            for link, force in forces:  # xfrc_applied acts at the body's centre of mass
+                body = self._body_id[link]
+                d.xfrc_applied[body, :3] += force
+                self._limb_pushed |= body in self._limb_body_set
+            self._pushing = bool(forces)
         start = time.perf_counter_ns()
         if self._forwarded:
             # mj_step = mj_step1 (positions, velocities: independent of ctrl and xfrc_applied)
@@ -211,51 +266,76 @@ class MujocoSimulator(SimulatorBase):
         self._contact_cache = (bodies, contact.pos[keep].copy(), on_robot)
         return self._contact_cache
 
+    def _touching_bodies(self) -> np.ndarray:
+        """Robot body ids (n,) of the active contacts between a robot geom and a scene geom
+        (as `_contacts`, without the forces). Cached until the next physics step."""
+        if self._touching_cache is None:
+            d = self.data
+            geoms = d.contact.geom[: d.ncon]  # (n, 2)
+            scene = self._scene_geom[geoms]
+            robot_geom = np.where(scene[:, 0], geoms[:, 1], geoms[:, 0])
+            self._touching_cache = self._geom_body[robot_geom[scene[:, 0] != scene[:, 1]]]
+        return self._touching_cache
+
     def _links_touching_scene(self) -> set[str]:
-        return {self._body_name[b] for b in self._contacts()[0].tolist()}
+        return {self._body_name[b] for b in self._touching_bodies().tolist()}
 
     def _check_warnings(self) -> None:
         """SimulatorError when MuJoCo has raised an instability warning (`UNSTABLE_WARNINGS`)."""
-        counts = self.data.warning.number
-        if counts[_UNSTABLE_INDEX].any():
+        counts = self._warnings
+        if counts.any() and counts[_UNSTABLE_INDEX].any():
             names = [w.name for w in UNSTABLE_WARNINGS if counts[int(w)]]
             detail = _last_warning[0] or ", ".join(names)
             raise SimulatorError(f"mujoco: unstable simulation at t = {self.time:.3f} s: {detail}")
 
     def _read_sensors(self) -> Sensors:
+        """The state, the IMU and the contacts after the forward pass (`kernels.mujoco_sensors`).
+        The limb wrenches come from MuJoCo's `cfrc_ext`: the external spatial force (moment,
+        force) on each body about the subtree CoM of its root body, in world axes, which the
+        forward pass computes for the accelerometer (its contacts summed in C; equal to the sum
+        of `mj_contactForce` over each body's contacts to 1e-12 N: a test). A push on a limb's
+        body is in `cfrc_ext` too: then the contacts are summed one by one (`_contacts`)."""
         m, d = self.model, self.data
-        self._check_warnings()
         start = time.perf_counter_ns()
         mujoco.mj_forward(m, d)  # sensors, contacts and poses of the state after the step
         self.engine_ns += time.perf_counter_ns() - start
         self._forwarded = True
         self._contact_cache = None
-        assert self.robot is not None
-        bodies, points, forces = self._contacts()
-        wrench, flags = limb_wrenches(
-            bodies,
-            points,
-            forces,
-            self._limb_body,
-            d.site_xpos[self._limb_site],
-            d.site_xmat[self._limb_site].reshape(-1, 3, 3),
+        buffer, checks = self._layout.buffer(), self._checks
+        flags, self._touching_cache = mujoco_sensors(
+            self._qpos,
+            self._qvel,
+            self._sensordata,
+            self._last_torque,
+            self._joint_qpos,
+            self._joint_dof,
+            self._root_and_imu,
+            *self._spatial_inputs,
+            *self._limb_inputs,
+            d.contact.geom[: d.ncon],
+            self._scene_geom,
+            self._geom_body,
+            self._limb_body_mask,
+            self._warnings,
+            _UNSTABLE_INDEX,
+            buffer,
+            checks,
         )
-        state = self.ground_truth()
-        return Sensors(
-            time=self.time,
-            joint_position=state.joint_position,
-            joint_velocity=state.joint_velocity,
-            joint_torque=self._last_torque.copy(),
-            base_position_world=state.base_position_world,
-            base_orientation_world=state.base_orientation_world,
-            base_linear_velocity_world=state.base_linear_velocity_world,
-            base_angular_velocity_world=state.base_angular_velocity_world,
-            imu_orientation_world=d.sensordata[self._imu_quat].copy(),
-            imu_angular_velocity_imu=d.sensordata[self._imu_gyro].copy(),
-            imu_linear_acceleration_imu=d.sensordata[self._imu_accel].copy(),
-            contact_wrench_limb=wrench,
-            contact_flag_limb=flags,
-        )
+        if checks[3]:  # an instability warning (in the step or this forward pass)
+            self._check_warnings()
+        self._checks_fresh = True
+        sensors = self._layout.sensors(self.time, buffer, flags)
+        if self._limb_pushed:
+            bodies, points, forces = self._contacts()
+            sensors.contact_wrench_limb[:] = limb_wrenches(
+                bodies,
+                points,
+                forces,
+                self._limb_body,
+                d.site_xpos[self._limb_site],
+                d.site_xmat[self._limb_site].reshape(-1, 3, 3),
+            )[0]
+        return sensors
 
     def mass_properties(self) -> MassProperties:
         m = self.model

@@ -18,7 +18,6 @@ Physics settings (same intent as `sims.mujoco_sim`; see README "Simulator differ
 
 from __future__ import annotations
 
-import math
 import os
 import sys
 import time
@@ -32,12 +31,12 @@ from robots.spec import RobotDescription
 from robots.types import MassProperties, RobotState, Sensors
 from sims.base import (
     SimulatorBase,
-    SimulatorError,
     cross,
-    limb_wrenches,
     quaternion_product,
     quaternion_to_matrix,
 )
+from sims.kernels import pybullet_sensors
+from sims.sensor_buffer import SensorLayout
 
 
 def _import_pybullet():
@@ -77,6 +76,14 @@ def _xyzw(q_wxyz) -> list[float]:
     return [float(q_wxyz[1]), float(q_wxyz[2]), float(q_wxyz[3]), float(q_wxyz[0])]
 
 
+_idle_clients: list[int] = []
+"""Connected physics clients that closed simulators left: the next simulator in this process
+empties one (`resetSimulation`) instead of connecting again (15 of an episode's 45 ms of
+set-up). Restoring a world saved after loading (`saveState` / `restoreState`) would save the
+loading too, but Bullet keeps contact state across a restore: an episode after another then
+differs from the same episode run first (measured), which `resetSimulation` avoids."""
+
+
 class PybulletSimulator(SimulatorBase):
     name = "pybullet"
 
@@ -85,12 +92,28 @@ class PybulletSimulator(SimulatorBase):
         self.client: int | None = None
 
     def close(self) -> None:
+        """Release the client: kept for the next simulator in this process (`_idle_clients`)."""
         if self.client is not None:
-            pb.disconnect(physicsClientId=self.client)
+            _idle_clients.append(self.client)
             self.client = None
 
     def _load(self, robot: RobotDescription, scene: Scene) -> None:
-        c = self.client = pb.connect(pb.DIRECT)
+        if _idle_clients:
+            c = self.client = _idle_clients.pop()
+            pb.resetSimulation(physicsClientId=c)
+        else:
+            c = self.client = pb.connect(pb.DIRECT)
+        self._load_new(robot, scene)
+
+    def _reset_caches(self) -> None:
+        self._imu_velocity_before = np.zeros(3)
+        self._contact_cache: tuple[list[int], np.ndarray, np.ndarray] | None = None
+        self._joint_cache: tuple[np.ndarray, np.ndarray] | None = None
+        self._checks_fresh = False
+
+    def _load_new(self, robot: RobotDescription, scene: Scene) -> None:
+        """Load robot and scene into the empty world of `self.client`."""
+        c = self.client
         pb.setPhysicsEngineParameter(
             fixedTimeStep=scene.physics_dt,
             numSubSteps=0,
@@ -168,9 +191,9 @@ class PybulletSimulator(SimulatorBase):
         self._base_inertial_rotation = quaternion_to_matrix(_wxyz(info[4]))
         w, x, y, z = _wxyz(info[4])
         self._base_inertial_conjugate = np.array([w, -x, -y, -z])
-        self._imu_velocity_before = np.zeros(3)
-        self._contact_cache: tuple[list[int], np.ndarray, np.ndarray] | None = None
-        self._joint_cache: tuple[np.ndarray, np.ndarray] | None = None
+        self._sensor_links = [*self._limb_frame, self._imu]  # read together every period
+        self._layout = SensorLayout(robot.n_joints, len(robot.limbs))
+        self._reset_caches()
 
     # PyBullet's base pose is its inertial frame; ours is the link frame.
     def _base_link_pose(self) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
@@ -202,6 +225,7 @@ class PybulletSimulator(SimulatorBase):
         ):
             pb.resetJointState(body, j, float(q), float(dq), physicsClientId=c)
         self._joint_cache = None
+        self._checks_fresh = False
         self._imu_velocity_before = self._imu_state()[2]
         self._contact_cache = None
 
@@ -211,16 +235,18 @@ class PybulletSimulator(SimulatorBase):
         omega = np.array(omega)
         v_origin = np.array(v_com) + cross(omega, position - com)
         q, dq = self._joint_state()
-        return RobotState(position, quaternion, v_origin, omega, q, dq)
+        return RobotState(position, quaternion, v_origin, omega, q.copy(), dq.copy())
 
     def _joint_state(self) -> tuple[np.ndarray, np.ndarray]:
-        """Read once per state: cached until the next physics step or `set_state`."""
+        """Read once per state: cached until the next physics step or `set_state` (callers
+        must not modify the arrays)."""
         if self._joint_cache is None:
             states = pb.getJointStates(self.body, self._joint_idx, physicsClientId=self.client)
-            both = np.array([s[:2] for s in states])
-            self._joint_cache = (both[:, 0].copy(), both[:, 1].copy())
-        q, dq = self._joint_cache
-        return q.copy(), dq.copy()
+            # columns: positions, velocities, reaction forces, motor torques
+            columns = zip(*states, strict=True)
+            q, dq = np.array((next(columns), next(columns)))
+            self._joint_cache = (q, dq)
+        return self._joint_cache
 
     def _imu_state(self):
         s = pb.getLinkState(
@@ -238,6 +264,7 @@ class PybulletSimulator(SimulatorBase):
         c, body = self.client, self.body
         self._contact_cache = None
         self._joint_cache = None
+        self._checks_fresh = False
         pb.setJointMotorControlArray(
             body, self._joint_idx, pb.TORQUE_CONTROL, forces=torque.tolist(), physicsClientId=c
         )
@@ -251,7 +278,13 @@ class PybulletSimulator(SimulatorBase):
                 body, index, force.tolist(), list(com), pb.WORLD_FRAME, physicsClientId=c
             )
         if last:  # the accelerometer differences the IMU velocity over the last step
-            self._imu_velocity_before = self._imu_state()[2]
+            self._imu_velocity_before = pb.getLinkState(
+                body,
+                self._imu,
+                computeLinkVelocity=1,
+                computeForwardKinematics=1,
+                physicsClientId=c,
+            )[6]
         start = time.perf_counter_ns()
         pb.stepSimulation(physicsClientId=c)
         self.engine_ns += time.perf_counter_ns() - start
@@ -284,42 +317,52 @@ class PybulletSimulator(SimulatorBase):
         return {self._link_name.get(link, f"link {link}") for link in self._contacts()[0]}
 
     def _read_sensors(self) -> Sensors:
+        """One read of each kind per period (base pose and velocity, the limb frames and the
+        IMU frame in one call, the joints, the contact points), converted and summed in one
+        compiled kernel (`kernels.pybullet_sensors`)."""
         assert self.robot is not None and self.scene is not None
-        c = self.client
-        links, points, forces = self._contacts()
+        c, body = self.client, self.body
+        com, orientation = pb.getBasePositionAndOrientation(body, physicsClientId=c)
+        velocity, omega = pb.getBaseVelocity(body, physicsClientId=c)
         frames = pb.getLinkStates(
-            self.body, self._limb_frame, computeForwardKinematics=1, physicsClientId=c
+            body,
+            self._sensor_links,
+            computeLinkVelocity=1,
+            computeForwardKinematics=1,
+            physicsClientId=c,
         )
-        wrench, flags = limb_wrenches(
-            np.array(links),
-            points,
-            forces,
+        values = [*com, *orientation, *velocity, *omega]
+        for frame in frames[:-1]:
+            values += frame[4]
+            values += frame[5]
+        imu = frames[-1]
+        values += imu[5]
+        values += imu[6]
+        values += imu[7]
+        values.extend(self._imu_velocity_before)
+        rows = []
+        for scene_body in self._scene_bodies:
+            for p in pb.getContactPoints(bodyA=body, bodyB=scene_body, physicsClientId=c):
+                rows.append((p[3], *p[6], p[8], p[9], *p[7], p[10], *p[11], p[12], *p[13]))
+        q, dq = self._joint_state()
+        buffer, checks = self._layout.buffer(), self._checks
+        flags = pybullet_sensors(
+            np.array(values),
+            q,
+            dq,
+            self._last_torque,
+            np.array(rows).reshape(-1, 17),
             self._limb_link,
-            np.array([frame[4] for frame in frames]),
-            np.array([quaternion_to_matrix(_wxyz_tuple(frame[5])) for frame in frames]),
+            self._base_com_in_link,
+            self._base_inertial_rotation,
+            self._base_inertial_conjugate,
+            self.scene.gravity,
+            self.scene.physics_dt,
+            buffer,
+            checks,
         )
-        state = self.ground_truth()
-        _, imu_quat, imu_velocity, imu_omega = self._imu_state()
-        imu_rotation = quaternion_to_matrix(imu_quat)
-        acceleration = (imu_velocity - self._imu_velocity_before) / self.scene.physics_dt
-        specific_force = acceleration + np.array([0.0, 0.0, self.scene.gravity])
-        if not math.isfinite(float(state.base_position_world.sum())):
-            raise SimulatorError(f"pybullet: non-finite base position at t = {self.time:.3f} s")
-        return Sensors(
-            time=self.time,
-            joint_position=state.joint_position,
-            joint_velocity=state.joint_velocity,
-            joint_torque=self._last_torque.copy(),
-            base_position_world=state.base_position_world,
-            base_orientation_world=state.base_orientation_world,
-            base_linear_velocity_world=state.base_linear_velocity_world,
-            base_angular_velocity_world=state.base_angular_velocity_world,
-            imu_orientation_world=imu_quat,
-            imu_angular_velocity_imu=imu_rotation.T @ imu_omega,
-            imu_linear_acceleration_imu=imu_rotation.T @ specific_force,
-            contact_wrench_limb=wrench,
-            contact_flag_limb=flags,
-        )
+        self._checks_fresh = True
+        return self._layout.sensors(self.time, buffer, flags)
 
     def mass_properties(self) -> MassProperties:
         c, body = self.client, self.body

@@ -9,6 +9,7 @@ from __future__ import annotations
 import numpy as np
 
 from robots.types import JointCommand
+from sims.kernels import servo_torque_kernel
 
 
 def servo_torque(
@@ -16,9 +17,13 @@ def servo_torque(
 ) -> np.ndarray:
     """Joint torques [N m] of the servo law for joint positions `q` [rad], velocities `dq`
     [rad/s]."""
-    tau = (
-        command.kp * (command.position - q)
-        + command.kd * (command.velocity - dq)
-        + command.torque_feedforward
+    return servo_torque_kernel(
+        command.position,
+        command.velocity,
+        command.torque_feedforward,
+        command.kp,
+        command.kd,
+        q,
+        dq,
+        torque_limit,
     )
-    return np.minimum(np.maximum(tau, -torque_limit), torque_limit)  # np.clip, 3x cheaper

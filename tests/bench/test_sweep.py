@@ -206,3 +206,35 @@ def test_longest_episodes_start_first(tmp_path: Path, monkeypatch):
     assert len(started) == 7  # 1 stand + 2 levels x 3 pushes
     assert started[0] == "stand None"
     assert all(line == "stand_push 4.6" for line in started[1:])  # 1.5 + 0.1 + 3 s
+
+
+def test_a_two_node_ray_cluster_runs_episodes_on_both_nodes_as_local_does(
+    tmp_path: Path, monkeypatch
+):
+    """Two Ray nodes of one CPU each on this machine (Ray's own test cluster utility): the
+    sweep's episodes run on both and give the local executor's rows. Ray's switch for
+    single-machine clusters keeps every node on the loopback address."""
+    ray = pytest.importorskip("ray", reason="Ray is a dev dependency; reinstall with make")
+    from ray._private import ray_constants
+    from ray.cluster_utils import Cluster
+
+    monkeypatch.setattr(ray_constants, "ENABLE_RAY_CLUSTER", False)  # nodes on 127.0.0.1
+    spec = small_spec(count=3)
+    local = run_sweep(spec, tmp_path / "local", workers=2, progress=False)
+    cluster = Cluster(initialize_head=True, head_node_args={"num_cpus": 1})
+    try:
+        assert cluster.address.startswith("127.0.0.1:")
+        cluster.add_node(num_cpus=1)
+        cluster.wait_for_nodes()
+        ray.init(address=cluster.address, include_dashboard=False, log_to_driver=False)
+        assert len([n for n in ray.nodes() if n["Alive"]]) == 2
+        remote = run_sweep(spec, tmp_path / "ray", executor="ray", workers=2, progress=False)
+    finally:
+        ray.shutdown()
+        cluster.shutdown()
+    assert len(remote) == len(spec.episodes()) == 8
+    nodes = {worker.split(":")[1] for worker in remote["worker"]}
+    assert len(nodes) == 2, remote["worker"].tolist()
+    assert all(worker.startswith("ray:") for worker in remote["worker"])
+    assert not any(worker.startswith("ray:") for worker in local["worker"])
+    pd.testing.assert_frame_equal(physical(local), physical(remote))

@@ -50,7 +50,9 @@ def test_the_old_ankle_gains_were_unstable():
         for kind, kd in (("ankle_pitch", 15.0), ("ankle_roll", 8.0)):
             limits, speed, torque, kp, _ = saved[kind]
             module._LEG_JOINTS[kind] = (limits, speed, torque, kp, kd)
+        module.humanoid.cache_clear()  # descriptions are cached per process
         assert _closed_loop_spectral_radius(1.0) > 1.0
     finally:
         module._LEG_JOINTS.clear()
         module._LEG_JOINTS.update(saved)
+        module.humanoid.cache_clear()
