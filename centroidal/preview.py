@@ -32,6 +32,7 @@ from dataclasses import dataclass
 
 import numpy as np
 import scipy.linalg
+from numba import njit
 
 
 def discrete_triple_integrator(dt: float) -> tuple[np.ndarray, np.ndarray]:
@@ -104,6 +105,34 @@ def output_preview_gains(
     return PreviewGains(feedback, feedforward, a, b, c, riccati)
 
 
+@njit(cache=True)
+def _preview_period(
+    state: np.ndarray,
+    feedback: np.ndarray,
+    position_feedforward: np.ndarray,
+    positions: np.ndarray,
+    a_dt: np.ndarray,
+    b_dt: np.ndarray,
+) -> np.ndarray:
+    """`TripleIntegratorPreview.jerk_from_positions` and the state one period later with that
+    jerk (`advance`), without changing `state` (compiled: one call)."""
+    n_axes, horizon, k = state.shape[0], positions.shape[0], positions.shape[1]
+    planned = np.empty((n_axes, 3))
+    for a in range(n_axes):
+        jerk = -(state[a, 0] * feedback[a, 0] + state[a, 1] * feedback[a, 1])
+        jerk -= state[a, 2] * feedback[a, 2]
+        if a < k:
+            total = 0.0
+            for h in range(horizon):
+                total += position_feedforward[a, h] * positions[h, a]
+            jerk += total
+        for i in range(3):
+            planned[a, i] = (
+                state[a, 0] * a_dt[i, 0] + state[a, 1] * a_dt[i, 1] + state[a, 2] * a_dt[i, 2]
+            ) + jerk * b_dt[i]
+    return planned
+
+
 class TripleIntegratorPreview:
     """Preview control of several independent axes: states (axes, 3) [p, p', p''].
 
@@ -136,6 +165,18 @@ class TripleIntegratorPreview:
         k = positions.shape[1]
         jerk[:k] += np.einsum("ah,ha->a", self._position_feedforward[:k], positions)
         return jerk
+
+    def planned_from_positions(self, positions: np.ndarray) -> np.ndarray:
+        """The state (axes, 3) one period after the current one under the jerk of
+        `jerk_from_positions(positions)` (eq. 5), the current state unchanged."""
+        return _preview_period(
+            self.state,
+            self.feedback,
+            self._position_feedforward,
+            positions,
+            self.a_dt,
+            self.b_dt,
+        )
 
     def advance(self, jerk: np.ndarray) -> None:
         """Integrate every axis over one control period with constant jerk."""

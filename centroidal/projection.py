@@ -19,6 +19,7 @@ daqp-through-qpsolvers' 22 / 34); see README.
 
 from __future__ import annotations
 
+import math
 from typing import Protocol
 
 import numpy as np
@@ -251,7 +252,7 @@ class WrenchProjector:
         if G.shape[1] == 0:
             return np.zeros(0)
         solution = self._solve(G, np.asarray(w, dtype=float), self.regularization, upper)
-        if solution is None or not np.all(np.isfinite(solution)):
+        if solution is None or not math.isfinite(solution.sum()):
             raise ProjectionError(f"wrench projection ({self.backend}) found no solution")
         return np.maximum(solution, 0.0)  # solver tolerance may leave -1e-12
 

@@ -8,63 +8,34 @@ import math
 
 import numpy as np
 
+from centroidal.kernels import (
+    exp_of_vector,
+    log_of_matrix,
+    matrix_of_quaternion,
+    matrix_rows_of_quaternions,
+    multiply_quaternion_rows,
+    quaternion_of_matrix,
+    quaternion_rows_of_vectors,
+    vector_rows_of_quaternions,
+)
+
 IDENTITY_WXYZ = np.array([1.0, 0.0, 0.0, 0.0])
 _EPS = float(np.finfo(float).eps)
 
 
 def to_matrix(quaternion_wxyz: np.ndarray) -> np.ndarray:
     """Rotation matrix of a quaternion (w, x, y, z), normalised first."""
-    w, x, y, z = np.asarray(quaternion_wxyz, dtype=float) / np.linalg.norm(quaternion_wxyz)
-    return np.array(
-        [
-            [1 - 2 * (y * y + z * z), 2 * (x * y - w * z), 2 * (x * z + w * y)],
-            [2 * (x * y + w * z), 1 - 2 * (x * x + z * z), 2 * (y * z - w * x)],
-            [2 * (x * z - w * y), 2 * (y * z + w * x), 1 - 2 * (x * x + y * y)],
-        ]
-    )
+    return matrix_of_quaternion(np.asarray(quaternion_wxyz, dtype=float))
 
 
 def from_matrix(rotation: np.ndarray) -> np.ndarray:
     """Unit quaternion (w, x, y, z) with w >= 0 of a rotation matrix (Shepperd's method)."""
-    # Python floats (the same IEEE arithmetic as numpy scalars, several times faster)
-    (m00, m01, m02), (m10, m11, m12), (m20, m21, m22) = np.asarray(rotation).tolist()
-    trace = m00 + m11 + m22
-    if trace > 0:
-        s = 2.0 * math.sqrt(trace + 1.0)
-        q = np.array([0.25 * s, (m21 - m12) / s, (m02 - m20) / s, (m10 - m01) / s])
-    elif m00 > m11 and m00 > m22:
-        s = 2.0 * math.sqrt(1.0 + m00 - m11 - m22)
-        q = np.array([(m21 - m12) / s, 0.25 * s, (m01 + m10) / s, (m02 + m20) / s])
-    elif m11 > m22:
-        s = 2.0 * math.sqrt(1.0 + m11 - m00 - m22)
-        q = np.array([(m02 - m20) / s, (m01 + m10) / s, 0.25 * s, (m12 + m21) / s])
-    else:
-        s = 2.0 * math.sqrt(1.0 + m22 - m00 - m11)
-        q = np.array([(m10 - m01) / s, (m02 + m20) / s, (m12 + m21) / s, 0.25 * s])
-    q /= np.linalg.norm(q)
-    return -q if q[0] < 0 else q
+    return quaternion_of_matrix(np.asarray(rotation, dtype=float))
 
 
 def log(rotation: np.ndarray) -> np.ndarray:
     """Rotation vector [rad] of a rotation matrix (angle in [0, pi])."""
-    cos_angle = np.clip((np.trace(rotation) - 1.0) / 2.0, -1.0, 1.0)
-    angle = np.arccos(cos_angle)
-    axis_times_sin = 0.5 * np.array(
-        [
-            rotation[2, 1] - rotation[1, 2],
-            rotation[0, 2] - rotation[2, 0],
-            rotation[1, 0] - rotation[0, 1],
-        ]
-    )
-    if angle < 1e-6:
-        return axis_times_sin  # sin(angle) ~ angle
-    if np.pi - angle < 1e-6:  # near pi: axis from the symmetric part
-        symmetric = (rotation + np.eye(3)) / 2.0
-        axis = np.sqrt(np.clip(np.diag(symmetric), 0.0, None))
-        k = int(np.argmax(axis))
-        axis = symmetric[k] / axis[k]
-        return angle * axis / np.linalg.norm(axis)
-    return angle / np.sin(angle) * axis_times_sin
+    return log_of_matrix(np.asarray(rotation, dtype=float))
 
 
 def skew(v: np.ndarray) -> np.ndarray:
@@ -75,11 +46,7 @@ def skew(v: np.ndarray) -> np.ndarray:
 
 def exp(rotation_vector: np.ndarray) -> np.ndarray:
     """Rotation matrix of a rotation vector [rad] (Rodrigues' formula)."""
-    angle = float(np.linalg.norm(rotation_vector))
-    k = skew(rotation_vector)
-    if angle < 1e-9:
-        return np.eye(3) + k
-    return np.eye(3) + np.sin(angle) / angle * k + (1 - np.cos(angle)) / angle**2 * k @ k
+    return exp_of_vector(np.asarray(rotation_vector, dtype=float))
 
 
 def rotation_error(target: np.ndarray, actual: np.ndarray) -> np.ndarray:
@@ -93,84 +60,40 @@ def rotate_by_vector(rotation_vector: np.ndarray, rotation: np.ndarray) -> np.nd
 
 
 # Batched versions on stacks of quaternions (..., 4) and rotation vectors (..., 3), for the
-# per-limb loops of the stabilizers (one call for every limb instead of one per limb). The
-# product and the rotation matrix are bilinear / quadratic in the quaternion components, so each
-# is one `einsum` with a constant tensor, built below from the scalar formulas.
-
-
-def _hamilton(a, b):
-    aw, ax, ay, az = a
-    bw, bx, by, bz = b
-    return np.array(
-        [
-            aw * bw - ax * bx - ay * by - az * bz,
-            aw * bx + ax * bw + ay * bz - az * by,
-            aw * by - ax * bz + ay * bw + az * bx,
-            aw * bz + ax * by - ay * bx + az * bw,
-        ]
-    )
-
-
-def _unnormalised_matrix(q):
-    w, x, y, z = q
-    return np.array(
-        [
-            [w * w + x * x - y * y - z * z, 2 * (x * y - w * z), 2 * (x * z + w * y)],
-            [2 * (x * y + w * z), w * w - x * x + y * y - z * z, 2 * (y * z - w * x)],
-            [2 * (x * z - w * y), 2 * (y * z + w * x), w * w - x * x - y * y + z * z],
-        ]
-    )
-
-
-_BASIS = np.eye(4)
-_PRODUCT = np.stack(
-    [np.stack([_hamilton(a, b) for b in _BASIS], axis=-1) for a in _BASIS], axis=1
-)  # (4, 4, 4): c_i = sum_jk P_ijk a_j b_k
-_QUADRATIC = np.stack(
-    [
-        np.stack(
-            [0.25 * (_unnormalised_matrix(a + b) - _unnormalised_matrix(a - b)) for b in _BASIS],
-            axis=-1,
-        )
-        for a in _BASIS
-    ],
-    axis=2,
-)  # (3, 3, 4, 4): R_ij = sum_kl S_ijkl q_k q_l (polarisation of the quadratic form)
+# per-limb loops of the stabilizers (one call for every limb instead of one per limb), compiled
+# (numba, cached on disk): one call where numpy needs four to eight (tests check them against
+# scipy).
+def _rows(function, *arrays: np.ndarray) -> np.ndarray:
+    """`function` of stacks (k, n) applied to arrays (..., n) of floats."""
+    first = arrays[0]
+    if type(first) is np.ndarray and first.ndim == 2 and first.dtype == np.float64:
+        return function(*arrays)  # stacks already (the per-period callers)
+    shape = np.shape(first)
+    rows = [np.ascontiguousarray(a, dtype=float).reshape(-1, shape[-1]) for a in arrays]
+    result = function(*rows)
+    return result.reshape(*shape[:-1], *result.shape[1:])
 
 
 def quaternion_multiply(a: np.ndarray, b: np.ndarray) -> np.ndarray:
     """Hamilton products a b of quaternions (..., 4) in (w, x, y, z) order."""
-    return np.einsum("ijk,...j,...k->...i", _PRODUCT, a, b)
+    if np.shape(a) != np.shape(b):
+        a, b = np.broadcast_arrays(a, b)
+    return _rows(multiply_quaternion_rows, a, b)
 
 
 def quaternions_from_vectors(rotation_vectors: np.ndarray) -> np.ndarray:
     """Unit quaternions (..., 4) of rotation vectors (..., 3) [rad]."""
-    angle = np.sqrt((rotation_vectors * rotation_vectors).sum(axis=-1, keepdims=True))
-    # sin(angle / 2) / angle = sinc(angle / 2pi) / 2, exact at zero: numpy's sinc written out
-    # (its dtype lookups cost more than the arithmetic on a few limbs)
-    x = np.pi * (angle / (2.0 * np.pi))
-    y = np.where(x, x, _EPS)
-    scale = 0.5 * (np.sin(y) / y)
-    return np.concatenate([np.cos(0.5 * angle), scale * rotation_vectors], axis=-1)
+    return _rows(quaternion_rows_of_vectors, rotation_vectors)
 
 
 def vectors_from_quaternions(quaternions_wxyz: np.ndarray) -> np.ndarray:
     """Rotation vectors (..., 3) [rad], angle in [0, pi], of unit quaternions (..., 4)."""
-    w = quaternions_wxyz[..., :1]
-    vector = np.where(w < 0, -quaternions_wxyz[..., 1:], quaternions_wxyz[..., 1:])
-    w = np.abs(w)
-    sin_half = np.sqrt((vector * vector).sum(axis=-1, keepdims=True))
-    angle = 2.0 * np.arctan2(sin_half, w)
-    # angle / sin(angle / 2), with its limit 2 / w for a vanishing vector part
-    scale = np.divide(angle, sin_half, out=2.0 / np.maximum(w, 1e-300), where=sin_half > 1e-9)
-    return scale * vector
+    return _rows(vector_rows_of_quaternions, quaternions_wxyz)
 
 
 def to_matrices(quaternions_wxyz: np.ndarray) -> np.ndarray:
     """Rotation matrices (k, 3, 3) of quaternions (k, 4), each normalised first."""
-    q = quaternions_wxyz
-    q = q / np.sqrt((q * q).sum(axis=-1, keepdims=True))
-    return np.einsum("ijkl,nk,nl->nij", _QUADRATIC, q, q)
+    return _rows(matrix_rows_of_quaternions, quaternions_wxyz)
 
 
 def yaw_of(quaternion_wxyz) -> float:

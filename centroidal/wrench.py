@@ -8,6 +8,7 @@ frame about its origin (the `Sensors` convention).
 from __future__ import annotations
 
 import numpy as np
+from numba import njit
 
 _NEXT, _LAST = np.array([1, 2, 0]), np.array([2, 0, 1])  # component i of a x b: a_next b_last - ...
 
@@ -25,17 +26,34 @@ def cross(a: np.ndarray, b: np.ndarray) -> np.ndarray:
     )
 
 
+@njit(cache=True)
+def _resultant(positions: np.ndarray, rotations: np.ndarray, wrenches: np.ndarray) -> np.ndarray:
+    total = np.zeros(6)
+    for k in range(len(positions)):
+        r, w, p = rotations[k], wrenches[k], positions[k]
+        f = r[:, 0] * w[0] + r[:, 1] * w[1] + r[:, 2] * w[2]  # R f_frame
+        n = r[:, 0] * w[3] + r[:, 1] * w[4] + r[:, 2] * w[5]  # R n_frame
+        total[0] += f[0]
+        total[1] += f[1]
+        total[2] += f[2]
+        total[3] += n[0] + (p[1] * f[2] - p[2] * f[1])
+        total[4] += n[1] + (p[2] * f[0] - p[0] * f[2])
+        total[5] += n[2] + (p[0] * f[1] - p[1] * f[0])
+    return total
+
+
 def resultant_about_origin(
     frame_positions_world: np.ndarray,
     frame_rotations_world: np.ndarray,
     wrenches_in_frame: np.ndarray,
 ) -> np.ndarray:
     """Sum of limb wrenches (k, 6) given in their frames (positions (k, 3) [m], rotations
-    (k, 3, 3)) as one world wrench about the world origin."""
-    forces = np.einsum("kij,kj->ki", frame_rotations_world, wrenches_in_frame[:, :3])
-    moments = np.einsum("kij,kj->ki", frame_rotations_world, wrenches_in_frame[:, 3:])
-    moments = moments + cross(frame_positions_world, forces)
-    return np.concatenate([forces.sum(axis=0), moments.sum(axis=0)])
+    (k, 3, 3)) as one world wrench about the world origin (compiled: one call)."""
+    return _resultant(
+        np.ascontiguousarray(frame_positions_world, dtype=float),
+        np.ascontiguousarray(frame_rotations_world, dtype=float),
+        np.ascontiguousarray(wrenches_in_frame, dtype=float),
+    )
 
 
 def shift_moment(wrench: np.ndarray, from_point: np.ndarray, to_point: np.ndarray) -> np.ndarray:

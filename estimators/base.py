@@ -51,14 +51,32 @@ class EstimatorBase:
         """Add CoM, CoM velocity, measured wrenches, contact flags and ZMP to `state`."""
         q = self.robot_model.configuration(state)
         v = self.robot_model.velocity(state, q)
-        com = pin.centerOfMass(self.model, self.data, q, v).copy()
-        com_velocity = self.data.vcom[0].copy()
+        pin.forwardKinematics(self.model, self.data, q, v)
         pin.updateFramePlacements(self.model, self.data)
+        return self._complete_from_kinematics(state, sensors, None)
+
+    def _complete_from_kinematics(
+        self, state: RobotState, sensors: Sensors, shift: tuple[np.ndarray, np.ndarray] | None
+    ) -> RobotState:
+        """`_complete` with the forward kinematics (positions, velocities, frame placements)
+        already in `self.data`: of `state` itself (`shift` None), or of `state` with its base
+        moved by -shift[0] [m] and its base linear velocity reduced by shift[1] [m/s] (world),
+        which moves every point, the CoM included, by the same -shift[0] and changes every
+        velocity by the same -shift[1] (so one kinematics pass serves an estimator that places
+        the base relative to its stance, `estimators.proprioceptive`)."""
+        model, data = self.model, self.data
+        com = pin.centerOfMass(model, data, pin.KinematicLevel.VELOCITY, False).copy()
+        com_velocity = data.vcom[0].copy()
         flags = sensors.contact_flag_limb
         touching = [k for k, flag in enumerate(flags.tolist()) if flag]
-        placements = [self.data.oMf[self.limb_frames[k]] for k in touching]
+        placements = [data.oMf[self.limb_frames[k]] for k in touching]
+        positions = np.array([p.translation for p in placements]).reshape(-1, 3)
+        if shift is not None:
+            com += shift[0]
+            com_velocity += shift[1]
+            positions += shift[0]
         resultant = resultant_about_origin(
-            np.array([p.translation for p in placements]).reshape(-1, 3),
+            positions,
             np.array([p.rotation for p in placements]).reshape(-1, 3, 3),
             sensors.contact_wrench_limb[touching],
         )

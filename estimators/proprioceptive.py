@@ -10,10 +10,40 @@ from __future__ import annotations
 
 import numpy as np
 import pinocchio as pin
+from numba import njit
 
+from centroidal.kernels import relative_configuration
 from estimators.base import ComponentSpec, EstimatorBase, register
 from robots.model import RobotModel
 from robots.types import RobotState, Sensors
+
+
+@njit(cache=True)
+def place_on_stance(
+    vertical_force: np.ndarray,
+    stance: np.ndarray,
+    anchors_world: np.ndarray,
+    offsets: np.ndarray,
+    velocities: np.ndarray,
+) -> tuple[np.ndarray, np.ndarray]:
+    """The base position [m] that puts the stance limbs (`stance` (k,) bool) at their anchors
+    (k, 3) [m] given their offsets from the base (m, 3) [m] (world axes), and the base velocity
+    [m/s] that stops their velocities relative to it (m, 3) [m/s], each the average over the
+    stance limbs weighted by their vertical forces (k,) [N]."""
+    total = 0.0
+    for k in range(len(stance)):
+        if stance[k]:
+            total += vertical_force[k]
+    position, velocity = np.zeros(3), np.zeros(3)
+    i = 0
+    for k in range(len(stance)):
+        if stance[k]:
+            weight = vertical_force[k] / total
+            for j in range(3):
+                position[j] += weight * (anchors_world[k, j] - offsets[i, j])
+                velocity[j] -= weight * velocities[i, j]
+            i += 1
+    return position, velocity
 
 
 class ProprioceptiveEstimator(EstimatorBase):
@@ -27,6 +57,9 @@ class ProprioceptiveEstimator(EstimatorBase):
         self.base_position = np.zeros(3)
         self.base_velocity = np.zeros(3)
         self.last_time = 0.0
+        self._q = np.zeros(self.model.nq)  # the kinematics pass's configuration, velocity
+        self._v = np.zeros(self.model.nv)
+        self._rotation = np.eye(3)  # and base rotation
 
     def reset(self, initial: RobotState, sensors: Sensors) -> None:
         q = self.robot_model.configuration(initial)
@@ -40,42 +73,43 @@ class ProprioceptiveEstimator(EstimatorBase):
 
     def estimate(self, sensors: Sensors) -> RobotState:
         orientation = sensors.imu_orientation_world  # the IMU frame has the base's axes
-        rotation = pin.Quaternion(*orientation).normalized().toRotationMatrix()
-        omega_world = rotation @ sensors.imu_angular_velocity_imu
-        # Kinematics with the base at the origin and the estimated orientation.
-        relative = RobotState(
-            np.zeros(3),
+        # One kinematics pass with the base at the origin, the IMU's orientation and no base
+        # linear velocity (positions, velocities, frames) serves the stance below and the CoM
+        # and ZMP (`_complete_from_kinematics`, which shifts them by the base's estimate).
+        q, v, rotation = self._q, self._v, self._rotation
+        relative_configuration(
             orientation,
-            np.zeros(3),
-            omega_world,
+            sensors.imu_angular_velocity_imu,  # the base's angular velocity in its own axes
             sensors.joint_position,
             sensors.joint_velocity,
+            q,
+            v,
+            rotation,
         )
-        q = self.robot_model.configuration(relative)
-        v = self.robot_model.velocity(relative, q)
-        pin.computeJointJacobians(self.model, self.data, q)
-        pin.updateFramePlacements(self.model, self.data)
+        model, data = self.model, self.data
+        pin.forwardKinematics(model, data, q, v)
+        pin.updateFramePlacements(model, data)
         vertical = sensors.contact_wrench_limb[:, 2]
         stance = self._stance(vertical)
         dt = max(sensors.time - self.last_time, 0.0)
         self.last_time = sensors.time
         if stance.any():
-            offsets = np.array(
-                [self.data.oMf[self.limb_frames[k]].translation for k in np.flatnonzero(stance)]
+            frames = [self.limb_frames[k] for k in np.flatnonzero(stance).tolist()]
+            offsets = np.array([data.oMf[f].translation for f in frames])
+            # Stance feet do not move: J(foot) v = 0 for the base linear velocity v_b. The
+            # columns of v_b (base axes) in a LOCAL_WORLD_ALIGNED Jacobian are the base rotation
+            # R, so R v_b = -(the foot's velocity from every other joint), which is the foot's
+            # velocity in this pass (it has v_b = 0).
+            moving = np.array(
+                [
+                    pin.getFrameVelocity(model, data, f, pin.LOCAL_WORLD_ALIGNED).linear
+                    for f in frames
+                ]
             )
             self._anchor(stance, stance & ~self.in_contact)
-            weights = vertical[stance] / vertical[stance].sum()
-            self.base_position = weights @ (self.anchors[stance] - offsets)
-            # Stance feet do not move: J_lin(foot) v = 0 solved for the base linear velocity.
-            velocities = []
-            for k in np.flatnonzero(stance):
-                jacobian = pin.getFrameJacobian(
-                    self.model, self.data, self.limb_frames[k], pin.LOCAL_WORLD_ALIGNED
-                )[:3]
-                rest = jacobian[:, 3:] @ v[3:]
-                velocities.append(-np.linalg.solve(jacobian[:, :3], rest))
-            base_velocity_local = weights @ np.array(velocities)
-            self.base_velocity = rotation @ base_velocity_local
+            self.base_position, self.base_velocity = place_on_stance(
+                vertical, stance, self.anchors, offsets, moving
+            )
         else:  # flight: carry on with the last velocity
             self._flight(dt)
         self.in_contact = stance
@@ -83,11 +117,13 @@ class ProprioceptiveEstimator(EstimatorBase):
             self.base_position.copy(),
             orientation.copy(),
             self.base_velocity.copy(),
-            omega_world,
+            rotation @ sensors.imu_angular_velocity_imu,
             sensors.joint_position,
             sensors.joint_velocity,
         )
-        return self._complete(state, sensors)
+        return self._complete_from_kinematics(
+            state, sensors, (self.base_position, self.base_velocity)
+        )
 
     def _flight(self, dt: float) -> None:
         """No limb carries weight: the base moves on with its last velocity over dt [s]."""

@@ -130,9 +130,7 @@ class PreviewControlPlanner:
 
         # eq. 5 on all six axes; the angular references (angle, moment) are zero (Sec. V-B).
         now = self.preview.state
-        planned = now @ self.preview.a_dt.T + np.outer(
-            self.preview.jerk_from_positions(window), self.preview.b_dt
-        )
+        planned = self.preview.planned_from_positions(window)
         wrench_planned = self.output_scale * planned[:, 2]
         after_preview = time.perf_counter_ns()
 

@@ -4,6 +4,9 @@ the contact sequence)."""
 
 from __future__ import annotations
 
+import bisect
+import functools
+import itertools
 from dataclasses import dataclass
 
 import numpy as np
@@ -106,12 +109,62 @@ class Scenario:
     goal_yaw: float | None = None
     """How far a walk's gait command turns [rad] (left positive); None: no walk."""
 
+    @functools.cached_property
+    def _timeline(self) -> tuple[list[float], dict[str, tuple[list[float], list]]] | None:
+        """Phase starts, and per limb the (start, end, contact) of each phase it is in with
+        their starts, for bisection; None if the phases are not in time order (then
+        `phase_at` and `limb_pose` scan them)."""
+        phases = self.phases
+        if any(a.end > b.start for a, b in itertools.pairwise(phases)):
+            return None
+        per_limb: dict[str, list] = {}
+        for phase in phases:
+            for contact in phase.contacts:
+                per_limb.setdefault(contact.limb, []).append((phase.start, phase.end, contact))
+        return [p.start for p in phases], {
+            limb: ([start for start, _, _ in spans], spans) for limb, spans in per_limb.items()
+        }
+
     def phase_at(self, time: float) -> ContactPhase:
         """The contact phase holding at `time` [s] (the last one after the end)."""
+        timeline = self._timeline
+        if timeline is not None:
+            i = bisect.bisect_right(timeline[0], time) - 1
+            if i >= 0 and time < self.phases[i].end:
+                return self.phases[i]
+            return self.phases[-1]
         for phase in self.phases:
             if phase.start <= time < phase.end:
                 return phase
         return self.phases[-1]
+
+    def _neighbours(self, limb: str, time: float):
+        """(end, contact) of `limb`'s last contact ended by `time` and (start, contact) of its
+        first one starting after it; the same pair (start, contact) twice if it is in contact
+        at `time`."""
+        timeline = self._timeline
+        if timeline is None:
+            previous = following = None
+            for phase in self.phases:
+                for contact in phase.contacts:
+                    if contact.limb != limb:
+                        continue
+                    if phase.start <= time < phase.end:
+                        current = (phase.start, contact)
+                        return current, current
+                    if phase.end <= time:
+                        previous = (phase.end, contact)
+                    elif following is None and phase.start > time:
+                        following = (phase.start, contact)
+            return previous, following
+        starts, spans = timeline[1].get(limb, ((), ()))
+        i = bisect.bisect_right(starts, time) - 1  # the last span starting by `time`
+        if i >= 0 and time < spans[i][1]:
+            current = (spans[i][0], spans[i][2])
+            return current, current
+        previous = (spans[i][1], spans[i][2]) if i >= 0 else None
+        following = (spans[i + 1][0], spans[i + 1][2]) if i + 1 < len(spans) else None
+        return previous, following
 
     def limb_pose(self, limb: str, time: float) -> tuple[np.ndarray, np.ndarray] | None:
         """Target pose of `limb`'s contact frame at `time` [s]: its contact pose while in
@@ -122,20 +175,13 @@ class Scenario:
         lands softly; a sin(pi s) bump, used before, landed at 0.2 m/s and made the sole
         chatter on MuJoCo's contact for 0.15 s); None if the limb is never in contact around
         `time`. Returns (position [m], orientation (w, x, y, z))."""
-        previous = following = None
-        for phase in self.phases:
-            for contact in phase.contacts:
-                if contact.limb != limb:
-                    continue
-                if phase.start <= time < phase.end:
-                    return (
-                        np.array(contact.position_world, dtype=float),
-                        np.array(contact.orientation_world, dtype=float),
-                    )
-                if phase.end <= time:
-                    previous = (phase.end, contact)
-                elif following is None and phase.start > time:
-                    following = (phase.start, contact)
+        previous, following = self._neighbours(limb, time)
+        if previous is following is not None:  # in contact
+            contact = previous[1]
+            return (
+                np.array(contact.position_world, dtype=float),
+                np.array(contact.orientation_world, dtype=float),
+            )
         if previous is None and following is None:
             return None
         if previous is None or following is None:

@@ -4,11 +4,36 @@ frame Z up; quaternions (w, x, y, z). Arrays are float64 numpy arrays; joint arr
 
 from __future__ import annotations
 
+import dataclasses
 from dataclasses import dataclass
 
 import numpy as np
 
 
+def per_period(cls):
+    """A frozen dataclass whose `__init__` writes the instance's dict directly instead of
+    calling `object.__setattr__` per field (what frozen dataclasses do): three times faster for
+    the objects built every control period. Fields, defaults, equality, immutability and
+    `dataclasses.replace` stay the dataclass's (tests/robots/test_types.py)."""
+    fields = dataclasses.fields(cls)
+    if any(f.default_factory is not dataclasses.MISSING for f in fields):
+        raise TypeError(f"{cls.__name__}: per_period does not support default factories")
+    if hasattr(cls, "__post_init__"):
+        raise TypeError(f"{cls.__name__}: per_period does not run __post_init__")
+    parameters = ", ".join(
+        f.name if f.default is dataclasses.MISSING else f"{f.name}=_default_{f.name}"
+        for f in fields
+    )
+    body = "".join(f"    values[{f.name!r}] = {f.name}\n" for f in fields)
+    source = f"def __init__(self, {parameters}):\n    values = self.__dict__\n{body}"
+    namespace = {f"_default_{f.name}": f.default for f in fields}
+    exec(source, namespace)  # generated from the dataclass's own field names
+    namespace["__init__"].__qualname__ = f"{cls.__qualname__}.__init__"
+    cls.__init__ = namespace["__init__"]
+    return cls
+
+
+@per_period
 @dataclass(frozen=True)
 class RobotState:
     """Floating-base state. The base is the root link's frame (not its centre of mass).
@@ -49,6 +74,7 @@ class RobotState:
         )
 
 
+@per_period
 @dataclass(frozen=True)
 class Sensors:
     """What the simulator reports after each control period.
@@ -86,6 +112,7 @@ class Sensors:
         )
 
 
+@per_period
 @dataclass(frozen=True)
 class JointCommand:
     """Targets for the joint servo law tau = kp (q_d - q) + kd (dq_d - dq) + tau_ff, clipped to
@@ -134,6 +161,7 @@ class Footstep:
     orientation_world: np.ndarray
 
 
+@per_period
 @dataclass(frozen=True)
 class CentroidalPlan:
     """A planner's output for one control period (world frame, SI units).
@@ -199,6 +227,7 @@ class CentroidalPlan:
         )
 
 
+@per_period
 @dataclass(frozen=True)
 class WholeBodyTargets:
     """A stabilizer's output: what the whole-body layer must realise.

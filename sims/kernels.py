@@ -194,7 +194,9 @@ def mujoco_sensors(
 
 @njit(cache=True)
 def quaternion_matrix(w: float, x: float, y: float, z: float) -> np.ndarray:
-    """`sims.base.quaternion_to_matrix` of (w, x, y, z)."""
+    """`sims.base.quaternion_to_matrix` of (w, x, y, z) (unnormalised; it repeats
+    `centroidal.kernels.matrix_of_quaternion` because a cached kernel may call only kernels
+    of its own file, see `centroidal.kernels`)."""
     r = np.empty((3, 3))
     r[0, 0], r[0, 1], r[0, 2] = 1 - 2 * (y * y + z * z), 2 * (x * y - w * z), 2 * (x * z + w * y)
     r[1, 0], r[1, 1], r[1, 2] = 2 * (x * y + w * z), 1 - 2 * (x * x + z * z), 2 * (y * z - w * x)

@@ -8,7 +8,8 @@ Each control period:
 3. distribution (eqs. 13-14): w^d = w-bar^d + [m g; c^a x f^d] (the actual CoM, as the paper
    recommends) onto the cone of the contacts; w_i^d = G_i lambda_i;
 4. damping control of every limb end (eqs. 15-16, Table II): the compliance pose
-   r^c = r^d + Delta r^c with K_d Delta r' + K_s Delta r = K_f (w^a - w^d), integrated as eq. 16;
+   r^c = r^d + Delta r^c with K_d Delta r' + K_s Delta r = K_f (w^a - w^d), integrated as eq. 16
+   (compiled: `centroidal.kernels.damping_control`);
    contact-phase parameters for limbs in contact, non-contact ones otherwise; with a single limb
    in contact its linear components use the non-contact values (Table II's note).
 The whole-body layer gets the desired CoM and base orientation (r^d), the compliance poses,
@@ -32,15 +33,13 @@ import numpy as np
 import scipy.linalg
 
 from centroidal.contacts import ContactSet, contact_set
+from centroidal.kernels import damping_control
 from centroidal.projection import DEFAULT_BACKEND, WrenchProjector, gravity_offset
 from centroidal.rotations import (
-    quaternion_multiply,
-    quaternions_from_vectors,
     rotation_error,
     skew,
     to_matrices,
     to_matrix,
-    vectors_from_quaternions,
 )
 from centroidal.wrench import zmp_on_plane
 from robots.limbs import limb_surfaces
@@ -214,25 +213,18 @@ class CentroidalFeedbackStabilizer:
         after_distribution = time.perf_counter_ns()
 
         # eqs. 15-16: damping control of every limb end at once (world-axes errors).
-        targets = plan.limb_target_orientation_world
-        targets = targets / np.sqrt((targets * targets).sum(axis=1, keepdims=True))  # unit
-        difference = (state.contact_wrench_limb - desired_limb).reshape(n_limbs, 2, 3)
-        error = np.einsum("kij,kaj->kai", to_matrices(targets), difference).reshape(n_limbs, 6)
         c = configuration
-        self.compliance_linear += self.dt * (
-            (c.kf[:, :3] * error[:, :3] - c.ks[:, :3] * self.compliance_linear) / c.kd[:, :3]
-        )
-        angular_rate = (c.kf[:, 3:] * error[:, 3:] - c.ks[:, 3:] * self.compliance_angular) / c.kd[
-            :, 3:
-        ]
-        turned = quaternion_multiply(
-            quaternions_from_vectors(self.dt * angular_rate),
-            quaternions_from_vectors(self.compliance_angular),
-        )
-        self.compliance_angular = vectors_from_quaternions(turned)  # eq. 16 on SO(3)
-        compliant_position = plan.limb_target_position_world + self.compliance_linear
-        compliant_orientation = quaternion_multiply(
-            quaternions_from_vectors(self.compliance_angular), targets
+        compliant_position, compliant_orientation = damping_control(
+            plan.limb_target_position_world,
+            plan.limb_target_orientation_world,
+            state.contact_wrench_limb,
+            desired_limb,
+            c.kd,
+            c.ks,
+            c.kf,
+            self.dt,
+            self.compliance_linear,
+            self.compliance_angular,
         )
         end = time.perf_counter_ns()
 

@@ -30,7 +30,9 @@ import daqp
 import numpy as np
 import pinocchio as pin
 import qpsolvers
+from numba import njit
 
+from centroidal.kernels import pose_errors
 from robots.model import RobotModel
 from robots.types import RobotState, WholeBodyTargets
 
@@ -50,9 +52,34 @@ class IKWeights:
     gain: float = 1.0
 
 
-def _quaternion_matrix(quaternion_wxyz: np.ndarray) -> np.ndarray:
-    w, x, y, z = np.asarray(quaternion_wxyz).tolist()  # Python floats: faster to convert
-    return pin.Quaternion(w, x, y, z).normalized().toRotationMatrix()
+@njit(cache=True)
+def qp_terms(
+    jacobian: np.ndarray,
+    weight: np.ndarray,
+    error: np.ndarray,
+    gain: float,
+    damping_and_posture: np.ndarray,
+    posture_weight: float,
+    nominal: np.ndarray,
+    joints: np.ndarray,
+    joint_lower: np.ndarray,
+    joint_upper: np.ndarray,
+    max_step: np.ndarray,
+    lower: np.ndarray,
+    upper: np.ndarray,
+) -> tuple[np.ndarray, np.ndarray]:
+    """The IK's QP in one call: H = J^T W J + damping I + w_p [0 I] (the posture task's rows
+    [0 I] added directly), g = -(W J)^T gain e - w_p [0; gain (q_nominal - q)], and the joint
+    steps' bounds (position limits and velocity limits over one period, always admitting 0)
+    written into lower[6:] and upper[6:]."""
+    weighted = jacobian * weight.reshape(-1, 1)
+    hessian = jacobian.T @ weighted + damping_and_posture
+    gradient = -(weighted.T @ (error * gain))
+    for j in range(len(joints)):
+        gradient[6 + j] -= posture_weight * (gain * (nominal[j] - joints[j]))
+        lower[6 + j] = min(max(joint_lower[j] - joints[j], -max_step[j]), 0.0)
+        upper[6 + j] = max(min(joint_upper[j] - joints[j], max_step[j]), 0.0)
+    return hessian, gradient
 
 
 class WholeBodyIK:
@@ -86,21 +113,23 @@ class WholeBodyIK:
         self.max_step = robot.array("velocity_limit") * dt
         self.nominal = np.array(robot.nominal_posture)
         self.q = pin.neutral(self.model)
-        # Task rows in kept buffers: at most 6 per limb, CoM 3, base orientation 3, posture
-        # n_joints, angular momentum 3. The posture rows (the joints' own) never change.
-        n_rows = 6 * len(self.limb_frames) + 3 + 3 + self.n_joints + 3
+        # Task rows in kept buffers: at most 6 per limb, CoM 3, base orientation 3, angular
+        # momentum 3 (the posture task's rows [0 I] enter the QP directly, see `solve`).
+        n_rows = 6 * len(self.limb_frames) + 3 + 3 + 3
         self._jacobian = np.zeros((n_rows, self.nv))
         self._error = np.zeros(n_rows)
         self._weight = np.zeros(n_rows)
-        self._weighted = np.zeros((n_rows, self.nv))
-        self._posture_rows = np.zeros((self.n_joints, self.nv))
-        self._posture_rows[:, 6:] = np.eye(self.n_joints)
-        self._damping = self.weights.damping * np.eye(self.nv)
+        self._damping_and_posture = self.weights.damping * np.eye(self.nv)
+        self._damping_and_posture[6:, 6:] += self.weights.posture * np.eye(self.n_joints)
         # The base step is bounded too, by 1 m / 1 rad per call: never active in practice, and
         # interior-point solvers (clarabel) fail on huge placeholder bounds.
         self._base_step = 1.0
         self._lower = np.full(self.nv, -self._base_step)
         self._upper = np.full(self.nv, self._base_step)
+        n_poses = len(self.limb_frames) + 1  # the limbs and the base
+        self._positions = np.zeros((n_poses, 3))
+        self._rotations = np.zeros((n_poses, 3, 3))
+        self._target_orientations = np.zeros((n_poses, 4))
         self._no_rows = np.zeros((0, self.nv))  # DAQP: no general constraints,
         self._sense = np.zeros(self.nv, dtype=c_int)  # every variable a simple bound
 
@@ -118,60 +147,81 @@ class WholeBodyIK:
         q = self.q
         pin.computeJointJacobians(model, data, q)
         pin.updateFramePlacements(model, data)
-        com = pin.centerOfMass(model, data, q, False)
-        jacobian_com = pin.jacobianCenterOfMass(model, data, False)
+        jacobian_com = pin.jacobianCenterOfMass(model, data, False)  # also sets data.com[0]
+        com = data.com[0]
 
         jacobian_rows, error_rows, weight_rows = self._jacobian, self._error, self._weight
-        n = 0
-
-        def add(jacobian: np.ndarray, error: np.ndarray, weight: float) -> None:
-            nonlocal n
-            m = len(error)
-            jacobian_rows[n : n + m] = jacobian
-            error_rows[n : n + m] = error
-            weight_rows[n : n + m] = weight
-            n += m
-
         tracked = targets.limb_tracked
-        for k, frame in enumerate(self.limb_frames):
-            if tracked is not None and not tracked[k]:
-                continue  # left to the posture task
+        limbs = [k for k in range(len(self.limb_frames)) if tracked is None or tracked[k]]
+        # the pose tasks (tracked limbs, then the base): Jacobians and placements from
+        # pinocchio, errors (position; log(R_target R^T)) in one compiled call
+        positions, rotations = self._positions, self._rotations
+        for i, k in enumerate(limbs):
+            frame = self.limb_frames[k]
             placement = data.oMf[frame]
-            jacobian = pin.getFrameJacobian(model, data, frame, pin.LOCAL_WORLD_ALIGNED)
-            target_rotation = _quaternion_matrix(targets.limb_orientation_world[k])
-            error = np.concatenate(
-                [
-                    targets.limb_position_world[k] - placement.translation,
-                    pin.log3(target_rotation @ placement.rotation.T),
-                ]
+            positions[i] = placement.translation
+            rotations[i] = placement.rotation
+            jacobian_rows[6 * i : 6 * i + 6] = pin.getFrameJacobian(
+                model, data, frame, pin.LOCAL_WORLD_ALIGNED
             )
-            add(jacobian, error, w.contact if targets.limb_in_contact[k] else w.limb)
-        add(jacobian_com, targets.com_position_world - com, w.com)
+            weight_rows[6 * i : 6 * i + 6] = w.contact if targets.limb_in_contact[k] else w.limb
+        m = len(limbs)
         base = data.oMf[self.base_frame]
-        base_jacobian = pin.getFrameJacobian(model, data, self.base_frame, pin.LOCAL_WORLD_ALIGNED)
-        base_error = pin.log3(_quaternion_matrix(targets.base_orientation_world) @ base.rotation.T)
-        add(base_jacobian[3:], base_error, w.base_orientation)
-        add(self._posture_rows, self.nominal - q[7:], w.posture)
+        rotations[m] = base.rotation
+        target_orientations = self._target_orientations
+        every = m == len(self.limb_frames)
+        target_orientations[:m] = (
+            targets.limb_orientation_world if every else targets.limb_orientation_world[limbs]
+        )
+        target_orientations[m] = targets.base_orientation_world
+        errors = pose_errors(
+            targets.limb_position_world if every else targets.limb_position_world[limbs],
+            target_orientations[: m + 1],
+            positions[:m],
+            rotations[: m + 1],
+        )
+        n = 6 * m
+        error_rows[:n] = errors[:m].reshape(-1)
+        jacobian_rows[n : n + 3] = jacobian_com
+        error_rows[n : n + 3] = targets.com_position_world - com
+        weight_rows[n : n + 3] = w.com
+        n += 3
+        jacobian_rows[n : n + 3] = pin.getFrameJacobian(
+            model, data, self.base_frame, pin.LOCAL_WORLD_ALIGNED
+        )[3:]
+        error_rows[n : n + 3] = errors[m, 3:]
+        weight_rows[n : n + 3] = w.base_orientation
+        n += 3
         if w.angular_momentum > 0:
             centroidal = pin.computeCentroidalMap(model, data, q)
-            add(centroidal[3:], np.zeros(3), w.angular_momentum)
-
-        jacobian = jacobian_rows[:n]
-        error = error_rows[:n] * w.gain
-        weighted = np.multiply(jacobian, weight_rows[:n, None], out=self._weighted[:n])
-        hessian = jacobian.T @ weighted + self._damping
-        gradient = -weighted.T @ error
+            jacobian_rows[n : n + 3] = centroidal[3:]
+            error_rows[n : n + 3] = 0.0
+            weight_rows[n : n + 3] = w.angular_momentum
+            n += 3
 
         lower, upper = self._lower, self._upper
-        joints = q[7:]
-        lower[6:] = np.minimum(np.maximum(self.lower - joints, -self.max_step), 0.0)
-        upper[6:] = np.maximum(np.minimum(self.upper - joints, self.max_step), 0.0)
+        hessian, gradient = qp_terms(
+            jacobian_rows[:n],
+            weight_rows[:n],
+            error_rows[:n],
+            w.gain,
+            self._damping_and_posture,
+            w.posture,
+            self.nominal,
+            q[7:],
+            self.lower,
+            self.upper,
+            self.max_step,
+            lower,
+            upper,
+        )
         step = self._solve_qp(hessian, gradient, lower, upper)
         if step is None or not math.isfinite(step.sum()):
             raise RuntimeError(f"IK QP ({self.solver}) found no solution")
         self.q = pin.integrate(model, q, step)
         # Keep the joints inside their limits exactly (the solver's tolerance may leave 1e-9).
-        self.q[7:] = np.clip(self.q[7:], self.lower, self.upper)
+        joints = self.q[7:]
+        np.minimum(np.maximum(joints, self.lower, out=joints), self.upper, out=joints)
         return self.q[7:].copy(), step[6:] / self.dt
 
     def _solve_qp(

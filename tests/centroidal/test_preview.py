@@ -90,3 +90,22 @@ def test_gains_are_cached_per_mass():
     assert preview_gains(MASS, *TABLE_I_LINEAR, DTAU, NH) is not preview_gains(
         2 * MASS, *TABLE_I_LINEAR, DTAU, NH
     )
+
+
+@pytest.mark.parametrize("k", [3, 6])
+def test_compiled_period_is_the_numpy_jerk_and_advance(k):
+    """`planned_from_positions` (one compiled call) equals eq. 5's jerk followed by one period
+    of the triple integrator in numpy, and leaves the state alone."""
+    rng = np.random.default_rng(k)
+    gains = [preview_gains(MASS, *TABLE_I_LINEAR, DTAU, 50) for _ in range(6)]
+    preview = TripleIntegratorPreview(gains, 0.002)
+    preview.state = rng.normal(size=(6, 3))
+    window = rng.normal(size=(50, k))
+    before = preview.state.copy()
+    planned = preview.planned_from_positions(window)
+    expected = preview.state @ preview.a_dt.T + np.outer(
+        preview.jerk_from_positions(window), preview.b_dt
+    )
+    np.testing.assert_allclose(planned, expected, rtol=0, atol=1e-12 * np.abs(expected).max())
+    np.testing.assert_array_equal(preview.state, before)
+    assert not np.allclose(planned, before)
