@@ -142,6 +142,9 @@ def tilt_angle(quaternion_wxyz: np.ndarray) -> float:
     return math.acos(min(max(float(cos_tilt), -1.0), 1.0))
 
 
+_NO_FORCES: list[tuple[str, np.ndarray]] = []  # no push this physics step (never modified)
+
+
 class SimulatorBase(abc.ABC):
     """The control period, pushes and fall detection; subclasses provide the primitives."""
 
@@ -228,17 +231,19 @@ class SimulatorBase(abc.ABC):
             command.kd,
         )
         self.engine_ns = 0
+        joint_state, physics_step, limit = self._joint_state, self._physics_step, self._torque_limit
+        last = substeps - 1
         for substep in range(substeps):
-            q, dq = self._joint_state()
-            torque = servo_torque_kernel(*servo, q, dq, self._torque_limit)  # `servo_torque`
-            forces = []
+            q, dq = joint_state()
+            torque = servo_torque_kernel(*servo, q, dq, limit)  # `servo_torque`
             if self._pushes:
                 forces = [(p.link, p.force_world) for p in self._pushes if p.steps_left > 0]
-            self._physics_step(torque, forces, substep == substeps - 1)
-            if self._pushes:
+                physics_step(torque, forces, substep == last)
                 for p in self._pushes:
                     p.steps_left -= 1
                 self._pushes = [p for p in self._pushes if p.steps_left > 0]
+            else:
+                physics_step(torque, _NO_FORCES, substep == last)
             self._last_torque = torque
             self.time += physics_dt
         sensors = self._read_sensors()
