@@ -76,12 +76,14 @@ def _xyzw(q_wxyz) -> list[float]:
     return [float(q_wxyz[1]), float(q_wxyz[2]), float(q_wxyz[3]), float(q_wxyz[0])]
 
 
+IDLE_CLIENTS_MAX = 2
 _idle_clients: list[int] = []
-"""Connected physics clients that closed simulators left: the next simulator in this process
-empties one (`resetSimulation`) instead of connecting again (15 of an episode's 45 ms of
-set-up). Restoring a world saved after loading (`saveState` / `restoreState`) would save the
-loading too, but Bullet keeps contact state across a restore: an episode after another then
-differs from the same episode run first (measured), which `resetSimulation` avoids."""
+"""Connected physics clients that closed simulators left (at most `IDLE_CLIENTS_MAX`; more
+are disconnected): the next simulator in this process empties one (`resetSimulation`) instead
+of connecting again (15 of an episode's 45 ms of set-up). Restoring a world saved after
+loading (`saveState` / `restoreState`) would save the loading too, but Bullet keeps contact
+state across a restore: an episode after another then differs from the same episode run first
+(measured), which `resetSimulation` avoids."""
 
 
 class PybulletSimulator(SimulatorBase):
@@ -94,7 +96,10 @@ class PybulletSimulator(SimulatorBase):
     def close(self) -> None:
         """Release the client: kept for the next simulator in this process (`_idle_clients`)."""
         if self.client is not None:
-            _idle_clients.append(self.client)
+            if len(_idle_clients) < IDLE_CLIENTS_MAX:
+                _idle_clients.append(self.client)
+            else:
+                pb.disconnect(physicsClientId=self.client)
             self.client = None
 
     def _load(self, robot: RobotDescription, scene: Scene) -> None:

@@ -14,7 +14,9 @@ V-F), subject to the joint position limits and the joint velocity limits over on
 QP is solved by DAQP (the default: the fastest on this dense 26-variable problem, see
 `make benchmark`), called directly with the bounds as DAQP's simple bounds (what qpsolvers
 passes it, without qpsolvers' per-call problem checks: 33 against 71 us measured), or by any
-other solver through qpsolvers. The task rows are written into buffers kept between calls.
+other solver through qpsolvers. The task rows are written into buffers kept between calls;
+the posture task's rows [0 I] enter the Hessian and gradient directly, and the QP's terms, the
+bounds and the pose errors are compiled kernels (`qp_terms`, `centroidal.kernels.pose_errors`).
 
 Orientation errors are log(R_target R^T) in world axes, matching the LOCAL_WORLD_ALIGNED
 Jacobians.

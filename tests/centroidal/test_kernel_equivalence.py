@@ -1,0 +1,167 @@
+"""Issue 16's compiled kernels against the numpy formulas they replaced (kept here as the
+references): the damping control of eqs. 15-16, the IK's QP terms and pose errors, the
+estimator's one-pass kinematics, the scenario lookups by bisection. Bounds are rounding."""
+
+import numpy as np
+import pinocchio as pin
+import pytest
+from scipy.spatial.transform import Rotation
+
+from bench.scenarios import make_scenario
+from centroidal.kernels import damping_control, pose_errors
+from estimators.kinematic_inertial import KinematicInertialEstimator
+from robots.humanoid import humanoid
+from robots.model import RobotModel
+from robots.scene import Scene
+from sims.base import make_simulator
+from wholebody.ik import qp_terms
+
+
+@pytest.fixture(scope="module")
+def model():
+    return RobotModel(humanoid())
+
+
+def quaternions(rng, k):
+    return Rotation.random(k, random_state=rng).as_quat(scalar_first=True)
+
+
+def test_damping_kernel_is_eqs_15_16_in_numpy():
+    """The numpy version that the kernel replaced: world-axes errors R (w_a - w_d), Euler on
+    the linear compliance, the rotation by dt times the rate composed on SO(3)."""
+    rng = np.random.default_rng(15)
+    k, dt = 4, 0.002
+    targets = quaternions(rng, k) * 1.7  # not unit: the kernel normalises
+    positions = rng.normal(size=(k, 3))
+    measured, desired = rng.normal(scale=50, size=(2, k, 6))
+    kd, ks, kf = rng.uniform(1, 1e4, (3, k, 6))
+    linear, angular = rng.normal(scale=0.01, size=(2, k, 3))
+    linear_kernel, angular_kernel = linear.copy(), angular.copy()
+    position, orientation = damping_control(
+        positions, targets, measured, desired, kd, ks, kf, dt, linear_kernel, angular_kernel
+    )
+
+    unit = targets / np.linalg.norm(targets, axis=1, keepdims=True)
+    rotation = Rotation.from_quat(unit, scalar_first=True)
+    difference = (measured - desired).reshape(k, 2, 3)
+    error = np.concatenate([rotation.apply(difference[:, 0]), rotation.apply(difference[:, 1])], 1)
+    linear_expected = linear + dt * (kf[:, :3] * error[:, :3] - ks[:, :3] * linear) / kd[:, :3]
+    rate = (kf[:, 3:] * error[:, 3:] - ks[:, 3:] * angular) / kd[:, 3:]
+    turned = Rotation.from_rotvec(dt * rate) * Rotation.from_rotvec(angular)
+    angular_expected = turned.as_rotvec()
+    orientation_expected = (Rotation.from_rotvec(angular_expected) * rotation).as_quat(
+        scalar_first=True
+    )
+    np.testing.assert_allclose(linear_kernel, linear_expected, rtol=0, atol=1e-12)
+    np.testing.assert_allclose(angular_kernel, angular_expected, rtol=0, atol=1e-12)
+    np.testing.assert_allclose(position, positions + linear_expected, rtol=0, atol=1e-12)
+    same_sign = np.sign(orientation[:, :1] * orientation_expected[:, :1])
+    np.testing.assert_allclose(orientation, same_sign * orientation_expected, atol=1e-12)
+    assert np.abs(linear_kernel - linear).max() > 1e-6  # the update did something
+
+
+def test_ik_qp_terms_are_the_weighted_least_squares_in_numpy():
+    rng = np.random.default_rng(16)
+    n_rows, nv, joints = 30, 26, 20
+    jacobian, weight, error = (
+        rng.normal(size=(n_rows, nv)),
+        rng.uniform(0, 1e3, n_rows),
+        rng.normal(size=n_rows),
+    )
+    gain, posture, damping = 0.7, 1e-2, 1e-6
+    nominal, q = rng.normal(size=(2, joints))
+    lower_limit, upper_limit = q - rng.uniform(0, 0.1, joints), q + rng.uniform(0, 0.1, joints)
+    max_step = rng.uniform(0, 0.05, joints)
+    damping_and_posture = damping * np.eye(nv)
+    damping_and_posture[6:, 6:] += posture * np.eye(joints)
+    lower, upper = np.full(nv, -1.0), np.full(nv, 1.0)
+    hessian, gradient = qp_terms(
+        jacobian,
+        weight,
+        error,
+        gain,
+        damping_and_posture,
+        posture,
+        nominal,
+        q,
+        lower_limit,
+        upper_limit,
+        max_step,
+        lower,
+        upper,
+    )
+    # the stacked form the kernel replaced: the posture task as rows [0 I]
+    rows = np.vstack([jacobian, np.hstack([np.zeros((joints, 6)), np.eye(joints)])])
+    weights = np.concatenate([weight, np.full(joints, posture)])
+    errors = np.concatenate([error, nominal - q]) * gain
+    np.testing.assert_allclose(
+        hessian, rows.T @ (weights[:, None] * rows) + damping * np.eye(nv), rtol=1e-12
+    )
+    np.testing.assert_allclose(
+        gradient, -(weights[:, None] * rows).T @ errors, rtol=1e-12, atol=1e-12
+    )
+    np.testing.assert_array_equal(lower[6:], np.minimum(np.maximum(lower_limit - q, -max_step), 0))
+    np.testing.assert_array_equal(upper[6:], np.maximum(np.minimum(upper_limit - q, max_step), 0))
+    np.testing.assert_array_equal(lower[:6], -1.0)  # the base's bounds are left alone
+
+
+def test_pose_errors_are_positions_and_pinocchio_log3():
+    rng = np.random.default_rng(17)
+    targets, actual = quaternions(rng, 3), Rotation.random(3, random_state=rng).as_matrix()
+    target_positions, positions = rng.normal(size=(2, 2, 3))
+    errors = pose_errors(target_positions, targets, positions, actual)
+    for i in range(3):
+        target = Rotation.from_quat(targets[i], scalar_first=True).as_matrix()
+        np.testing.assert_allclose(errors[i, 3:], pin.log3(target @ actual[i].T), atol=1e-12)
+    np.testing.assert_allclose(errors[:2, :3], target_positions - positions, atol=0)
+    np.testing.assert_array_equal(errors[2, :3], 0.0)
+
+
+def test_estimator_one_pass_equals_kinematics_at_the_estimated_base(model):
+    """The CoM, its velocity and the measured ZMP of the shifted single pass equal a second
+    full pass at the estimated state (the way `_complete` computes them)."""
+    initial = model.standing_state()
+    command = model.hold_command(initial)
+    estimator, reference = KinematicInertialEstimator(model), KinematicInertialEstimator(model)
+    sim = make_simulator("mujoco")
+    try:
+        sensors = sim.reset(model.robot, Scene(), initial)
+        estimator.reset(initial, sensors)
+        for k in range(300):
+            if k == 100:
+                sim.push(model.robot.base_link, np.array([8.0, -5.0, 0.0]), 0.1)
+            sensors = sim.step(command)
+            state = estimator.estimate(sensors)
+        full = reference._complete(state, sensors)  # a full pass at the estimated state
+    finally:
+        sim.close()
+    np.testing.assert_allclose(state.com_position_world, full.com_position_world, atol=1e-12)
+    np.testing.assert_allclose(state.com_velocity_world, full.com_velocity_world, atol=1e-12)
+    np.testing.assert_allclose(state.zmp_world, full.zmp_world, atol=1e-9)
+    assert np.linalg.norm(state.com_velocity_world) > 1e-3  # the push moved it
+
+
+@pytest.mark.parametrize("name", ["walk", "walk_side", "walk_turn", "stand_push"])
+def test_scenario_lookups_by_bisection_equal_the_scan(model, name):
+    """`phase_at` and `limb_pose` (bisection over the phases) against the linear scan they
+    replaced (the code path for phases out of time order), bit for bit, every 1 ms."""
+    scenario = make_scenario(name, model)
+    times = np.arange(-0.1, scenario.duration + 0.3, 0.001)
+    limbs = model.robot.limb_names
+
+    def lookups():
+        return [
+            (scenario.phase_at(t), [scenario.limb_pose(limb, t) for limb in limbs]) for t in times
+        ]
+
+    fast = lookups()
+    assert scenario._timeline is not None  # the bisection was used
+    scenario.__dict__["_timeline"] = None  # force the scan
+    slow = lookups()
+    for (phase_fast, poses_fast), (phase_slow, poses_slow) in zip(fast, slow, strict=True):
+        assert phase_fast is phase_slow
+        for a, b in zip(poses_fast, poses_slow, strict=True):
+            assert (a is None) == (b is None)
+            if a is not None:
+                np.testing.assert_array_equal(a[0], b[0])
+                np.testing.assert_array_equal(a[1], b[1])
