@@ -33,7 +33,7 @@ from planners.base import planner_spec
 from robots.humanoid import humanoid
 from robots.model import RobotModel, cached_model
 from robots.types import CentroidalPlan, JointCommand, WholeBodyTargets
-from sims.base import make_simulator
+from sims.base import clear_backend_caches, make_simulator
 from stabilizers.base import stabilizer_spec
 from wholebody.base import DEFAULT_WHOLE_BODY, make_whole_body
 
@@ -184,13 +184,9 @@ def _latency(trace: pd.DataFrame) -> dict[str, dict[str, float]]:
 def clear_setup_caches() -> None:
     """Forget every per-process set-up cache (robots, pinocchio models, compiled MuJoCo models,
     idle PyBullet clients): the next episode sets up from scratch, as in a new worker."""
-    from sims import mujoco_sim, pybullet_sim  # imported here: both are optional backends
-
     humanoid.cache_clear()
     cached_model.cache_clear()
-    mujoco_sim.build_model.cache_clear()
-    while pybullet_sim._idle_clients:
-        pybullet_sim.pb.disconnect(physicsClientId=pybullet_sim._idle_clients.pop())
+    clear_backend_caches()
 
 
 def run_episode(spec: EpisodeSpec, progress: MutableSequence[float] | None = None) -> EpisodeResult:

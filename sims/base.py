@@ -12,6 +12,7 @@ import abc
 import importlib
 import importlib.util
 import math
+import sys
 from dataclasses import dataclass
 from typing import Protocol
 
@@ -329,6 +330,15 @@ SIMULATORS: dict[str, SimulatorSpec] = {
         "pybullet", "sims.pybullet_sim", "PybulletSimulator", "pybullet", "pybullet"
     ),
 }
+
+
+def clear_backend_caches() -> None:
+    """Forget the per-process set-up caches of the backends loaded in this process (each
+    backend module's `clear_cache`)."""
+    for spec in SIMULATORS.values():
+        module = sys.modules.get(spec.module)
+        if module is not None:
+            module.clear_cache()
 
 
 def make_simulator(name: str) -> Simulator:

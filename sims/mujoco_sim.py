@@ -96,6 +96,11 @@ def build_model(robot: RobotDescription, scene: Scene) -> mujoco.MjModel:
     return spec.compile()
 
 
+def clear_cache() -> None:
+    """Forget the compiled models (`sims.base.clear_backend_caches`)."""
+    build_model.cache_clear()
+
+
 class MujocoSimulator(SimulatorBase):
     name = "mujoco"
 

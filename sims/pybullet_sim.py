@@ -86,6 +86,12 @@ state across a restore: an episode after another then differs from the same epis
 (measured), which `resetSimulation` avoids."""
 
 
+def clear_cache() -> None:
+    """Disconnect the idle clients (`sims.base.clear_backend_caches`)."""
+    while _idle_clients:
+        pb.disconnect(physicsClientId=_idle_clients.pop())
+
+
 class PybulletSimulator(SimulatorBase):
     name = "pybullet"
 
