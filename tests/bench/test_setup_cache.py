@@ -31,14 +31,14 @@ def test_cached_setup_gives_the_fresh_episode_even_after_a_fall(sim):
     fresh_summary, fresh = trace_of(walk)
     fall_summary, _ = trace_of(fall)
     assert fall_summary["status"] == "fell"
-    clear_setup_caches_used = cached_model.cache_info().hits
-    assert clear_setup_caches_used >= 1  # the fall reused the walk's model
+    model_hits_before = cached_model.cache_info().hits
+    assert model_hits_before >= 1  # the fall reused the walk's model
     if sim == "mujoco":
         assert mujoco_sim.build_model.cache_info().hits >= 1
     else:
         assert len(pybullet_sim._idle_clients) == 1  # the walk's client served the fall
     again_summary, again = trace_of(walk)
-    assert cached_model.cache_info().hits > clear_setup_caches_used
+    assert cached_model.cache_info().hits > model_hits_before
     assert fresh_summary["status"] == again_summary["status"] == "ok"
     assert fresh.equals(again)
     assert len(fresh) == 500
