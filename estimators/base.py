@@ -103,6 +103,7 @@ ESTIMATORS = Registry(
         "estimators.ground_truth",
         "estimators.proprioceptive",
         "estimators.kinematic_inertial",
+        "estimators.five_mass_kalman",
     ),
 )
 register = ESTIMATORS.register

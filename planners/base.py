@@ -24,6 +24,7 @@ PLANNERS = Registry(
         "planners.preview_control",
         "planners.preview_zmp",
         "planners.linear_mpc",
+        "planners.five_mass_gait",
     ),
 )
 PlannerSpec = ComponentSpec

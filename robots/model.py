@@ -175,6 +175,27 @@ class RobotModel:
         offset = np.array([-positions[:, 0].mean(), 0.0, -positions[:, 2].min()])
         return RobotState.at_rest(offset, upright.base_orientation_world, posture)
 
+    def standing_height(self) -> float:
+        """[m] the top of the robot's shapes in `standing_state` above the ground: the highest
+        point of each shape's bounding sphere (boxes: half diagonal; capsules: half length
+        plus radius), which is exact for the spheres and vertical capsules that top a
+        humanoid (its head)."""
+        state = self.standing_state()
+        pin.framesForwardKinematics(self.model, self.data, self.configuration(state))
+        top = 0.0
+        for link in self.robot.links:
+            placement = self.data.oMf[self.frame_id[link.name]]
+            for shape in link.geometries:
+                centre = placement.act(np.array(shape.position_in_link))
+                if shape.kind == "box":
+                    reach = float(np.linalg.norm(shape.size))
+                elif shape.kind == "capsule":
+                    reach = shape.size[0] + shape.size[1]
+                else:
+                    reach = shape.size[0]
+                top = max(top, float(centre[2]) + reach)
+        return top
+
     def mass_properties(self) -> MassProperties:
         """Per-joint-body mass properties (pinocchio merges the massless frame links into
         their parent body, which leaves exactly one body per link)."""

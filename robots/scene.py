@@ -11,6 +11,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from robots.gait import GaitCommand
+
 
 @dataclass(frozen=True)
 class Box:
@@ -108,6 +110,9 @@ class Scenario:
     walk."""
     goal_yaw: float | None = None
     """How far a walk's gait command turns [rad] (left positive); None: no walk."""
+    gait: GaitCommand | None = None
+    """The gait command a walk was built from (`robots.gait`), for planners that choose
+    their own footsteps; None: no walk."""
 
     @functools.cached_property
     def _timeline(self) -> tuple[list[float], dict[str, tuple[list[float], list]]] | None:

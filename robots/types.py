@@ -45,7 +45,9 @@ class RobotState:
     An estimator also fills: time [s]; com_position_world [m] and com_velocity_world [m/s];
     contact_wrench_limb (n_limbs, 6) measured force [N] and moment [N m] in each limb's
     contact frame about its origin, contact_flag_limb (n_limbs,) bool; zmp_world (3,) the
-    measured ZMP on the ground plane z = 0 [m] (NaN without vertical contact force). A state
+    measured ZMP on the ground plane z = 0 [m] (NaN without vertical contact force; an
+    estimator without force sensors gives its own estimate, and passes the sensors' wrenches and
+    flags through for the record only). A state
     from a simulator's ground truth leaves them None."""
 
     base_position_world: np.ndarray
@@ -60,6 +62,13 @@ class RobotState:
     contact_wrench_limb: np.ndarray | None = None
     contact_flag_limb: np.ndarray | None = None
     zmp_world: np.ndarray | None = None
+    com_acceleration_world: np.ndarray | None = None
+    """[m/s^2] the CoM acceleration, from estimators that estimate it (Ficht & Behnke eq. 6)."""
+    inertia_tilt: np.ndarray | None = None
+    """(2,) [rad] projected angles (toward +x, toward +y) of the principal z axis of inertia
+    from the vertical (`centroidal.tilt`), from five-mass estimators; None otherwise."""
+    inertia_tilt_rate: np.ndarray | None = None
+    """(2,) [rad/s] their rates."""
 
     @staticmethod
     def at_rest(base_position_world, base_orientation_world, joint_position) -> RobotState:
@@ -211,6 +220,13 @@ class CentroidalPlan:
     planner's from its own choice. The runner records the last version of each before its
     touchdown and compares it with the touchdown that happened (`bench.footsteps`)."""
 
+    inertia_axes_reference_world: np.ndarray | None = None
+    """(3, 3) the reference orientation R_I^ref of the principal axes of inertia (columns x,
+    y, z; Ficht & Behnke eq. 5), for planners of a five-mass controller; None: not given."""
+    step_remaining_s: float | None = None
+    """[s] the nominal time left in the current step, t_r = (1 - mu) / f_g (Ficht & Behnke
+    eq. 10), for planners that step by a gait phase; None: not stepping."""
+
     def desired_state(self) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
         """(c^d, c'^d, base orientation^d, omega^d), falling back to the planned state."""
         return (
@@ -257,3 +273,6 @@ class WholeBodyTargets:
     wrench_distributed_world: np.ndarray | None = None
     """w-bar^d' : the resultant of the distributed contact wrenches minus [m g; c^a x f^d]; its
     difference from w-bar^d is the desired projection error (Sec. V-G)."""
+    inertia_axes_world: np.ndarray | None = None
+    """(3, 3) the orientation R_I^set of the principal axes of inertia that a five-mass pose
+    generator realises (Ficht & Behnke eq. 12); None: no such target."""

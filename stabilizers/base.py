@@ -19,7 +19,12 @@ class Stabilizer(Protocol):
 
 STABILIZERS = Registry(
     "stabilizer",
-    modules=("stabilizers.posture", "stabilizers.centroidal_feedback", "stabilizers.dcm"),
+    modules=(
+        "stabilizers.posture",
+        "stabilizers.centroidal_feedback",
+        "stabilizers.dcm",
+        "stabilizers.direct_centroidal",
+    ),
 )
 StabilizerSpec = ComponentSpec
 register = STABILIZERS.register

@@ -23,7 +23,8 @@ class WholeBodyLayer(Protocol):
 
 # `ComponentSpec.factory(model, dt)` builds a layer for a `RobotModel` and control period dt [s]
 WHOLE_BODY_LAYERS = Registry(
-    "whole-body layer", modules=("wholebody.ik_feedforward", "wholebody.ik_only")
+    "whole-body layer",
+    modules=("wholebody.ik_feedforward", "wholebody.ik_only", "wholebody.five_mass_pose"),
 )
 register = WHOLE_BODY_LAYERS.register
 DEFAULT_WHOLE_BODY = "ik"

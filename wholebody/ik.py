@@ -93,6 +93,7 @@ class WholeBodyIK:
         dt: float,
         weights: IKWeights | None = None,
         solver: str = "daqp",
+        extra_rows: int = 0,
     ) -> None:
         if solver not in qpsolvers.available_solvers:
             raise ValueError(
@@ -117,7 +118,9 @@ class WholeBodyIK:
         self.q = pin.neutral(self.model)
         # Task rows in kept buffers: at most 6 per limb, CoM 3, base orientation 3, angular
         # momentum 3 (the posture task's rows [0 I] enter the QP directly, see `solve`).
-        n_rows = 6 * len(self.limb_frames) + 3 + 3 + 3
+        n_rows = 6 * len(self.limb_frames) + 3 + 3 + 3 + extra_rows
+        # the base orientation task's weight per world axis (a subclass may free roll, pitch)
+        self.base_orientation_weights = np.full(3, self.weights.base_orientation)
         self._jacobian = np.zeros((n_rows, self.nv))
         self._error = np.zeros(n_rows)
         self._weight = np.zeros(n_rows)
@@ -192,8 +195,9 @@ class WholeBodyIK:
             model, data, self.base_frame, pin.LOCAL_WORLD_ALIGNED
         )[3:]
         error_rows[n : n + 3] = errors[m, 3:]
-        weight_rows[n : n + 3] = w.base_orientation
+        weight_rows[n : n + 3] = self.base_orientation_weights
         n += 3
+        n = self._extra_rows(q, targets, n)
         if w.angular_momentum > 0:
             centroidal = pin.computeCentroidalMap(model, data, q)
             jacobian_rows[n : n + 3] = centroidal[3:]
@@ -225,6 +229,11 @@ class WholeBodyIK:
         joints = self.q[7:]
         np.minimum(np.maximum(joints, self.lower, out=joints), self.upper, out=joints)
         return self.q[7:].copy(), step[6:] / self.dt
+
+    def _extra_rows(self, q: np.ndarray, targets: WholeBodyTargets, n: int) -> int:
+        """Write a subclass's task rows from row `n` of the buffers (`extra_rows` of them at
+        most); return the next free row. None here."""
+        return n
 
     def _solve_qp(
         self, hessian: np.ndarray, gradient: np.ndarray, lower: np.ndarray, upper: np.ndarray

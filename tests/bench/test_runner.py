@@ -82,7 +82,8 @@ def test_a_failing_stage_is_recorded_and_the_trace_kept(failing, name, message):
 def test_a_bad_spec_is_an_error_row_not_an_exception():
     result = run_episode(EpisodeSpec("nonexistent", "posture", "mujoco", "stand"))
     assert result.summary["status"] == "error"
-    assert "unknown planner 'nonexistent'; choose one of: hold" in result.summary["error"]
+    assert "unknown planner 'nonexistent'; choose one of: " in result.summary["error"]
+    assert "hold, linear_mpc, preview_control, preview_zmp" in result.summary["error"]
     assert len(result.trace) == 0
 
 

@@ -1,0 +1,191 @@
+"""`five_mass_kalman`: Ficht & Behnke's state estimation (paper 003, Sec. 3.2, eqs. 6-7) from
+the IMU and the joint encoders only, no force sensors.
+
+- Base orientation and angular velocity: the IMU's (the paper: "an attitude estimator of
+  choice"; our IMU reports its orientation).
+- Support foot: the lower of the two soles (world z through the IMU's orientation and the
+  encoders), switched only when the other sole is lower by more than `hysteresis` [m] (the
+  paper's "semi double support" band; 5 mm at scale 1, scaled with the robot).
+- Odometry: the support sole is anchored where the kinematics put it when it became the
+  support, and the base is placed so that it stays there; the base velocity makes the support
+  sole's velocity zero. (The paper keeps a ground frame Sigma_G half a step width beside the
+  support foot; a world frame carried over support exchanges is the same odometry.)
+- CoM: the five-mass CoM (`robots.five_mass`), which is the full robot's CoM.
+- A Kalman filter per horizontal axis on [x, x', x''] with the "linear mass model" (constant
+  acceleration, jerk as process noise; the paper does not enforce the LIPM in the filter),
+  measuring the CoM position and the unrotated, gravity-free trunk acceleration
+  G a_t = R_t a_imu - [0, 0, g] (eq. 6; the IMU's specific force rotated to the world).
+  The filter is time-invariant, so its steady-state gain is computed once from the discrete
+  Riccati equation (scipy).
+- ZMP (eq. 7): p = x^ - z^ / g x^'', with z^ the CoM height above the support sole.
+- A second filter of the same form on the projected tilt angles of the principal z axis of
+  inertia (`centroidal.tilt`), measuring the angles only, gives their rates.
+
+The sensors' contact flags and wrenches are passed through to the state for the runner's
+record (footsteps taken, measured wrenches); nothing here reads them.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+import pinocchio as pin
+from scipy.linalg import solve_discrete_are
+
+from centroidal.kernels import relative_configuration
+from centroidal.tilt import angles_of_axis
+from estimators.base import ComponentSpec, EstimatorBase, register
+from robots.five_mass import FiveMassModel
+from robots.model import RobotModel
+from robots.types import RobotState, Sensors
+
+GRAVITY = 9.81
+HYSTERESIS_M = 0.005  # [m] at scale 1
+COM_POSITION_NOISE_M = 0.002  # [m] five-mass CoM against the true one (model, encoder errors)
+TRUNK_ACCELERATION_NOISE = 1.0  # [m/s^2] the trunk's acceleration is the CoM's only roughly
+COM_JERK_NOISE = 30.0  # [m/s^3] per sqrt(s): how fast the CoM acceleration may change
+TILT_NOISE_RAD = 0.002  # [rad]
+TILT_JERK_NOISE = 30.0  # [rad/s^3] per sqrt(s)
+
+
+def constant_acceleration_model(dt: float, jerk: float) -> tuple[np.ndarray, np.ndarray]:
+    """(F, Q) of [x, x', x''] over dt [s] with white jerk of spectral density jerk^2."""
+    f = np.array([[1.0, dt, dt * dt / 2], [0.0, 1.0, dt], [0.0, 0.0, 1.0]])
+    g = np.array([[dt**3 / 6], [dt * dt / 2], [dt]])
+    return f, jerk**2 / dt * (g @ g.T)
+
+
+def steady_state_gain(f: np.ndarray, q: np.ndarray, h: np.ndarray, r: np.ndarray) -> np.ndarray:
+    """The steady-state Kalman gain K (n, m) of x+ = F x + w, z = H x + v (scipy's DARE on the
+    dual system gives the prior covariance P; K = P H^T (H P H^T + R)^-1)."""
+    p = solve_discrete_are(f.T, h.T, q, r)
+    return p @ h.T @ np.linalg.inv(h @ p @ h.T + r)
+
+
+class AxisFilter:
+    """Kalman filters on [x, x', x''] for several independent axes sharing one model:
+    predict with F, correct with the steady-state gain."""
+
+    def __init__(self, dt: float, jerk: float, h: np.ndarray, noise: np.ndarray, axes: int):
+        self.f, q = constant_acceleration_model(dt, jerk)
+        self.h = h
+        self.gain = steady_state_gain(self.f, q, h, np.diag(np.square(noise)))
+        self.state = np.zeros((3, axes))
+
+    def reset(self, position: np.ndarray) -> None:
+        self.state[:] = 0.0
+        self.state[0] = position
+
+    def update(self, measurement: np.ndarray) -> np.ndarray:
+        """measurement (m, axes); returns the state (3, axes)."""
+        prior = self.f @ self.state
+        self.state = prior + self.gain @ (measurement - self.h @ prior)
+        return self.state
+
+
+class FiveMassKalmanEstimator(EstimatorBase):
+    name = "five_mass_kalman"
+
+    def __init__(self, model: RobotModel, dt: float = 0.002) -> None:
+        super().__init__(model)
+        self.five = FiveMassModel(model)
+        self.dt = dt
+        self.hysteresis = HYSTERESIS_M * model.robot.scale
+        self.foot_frames = [self.limb_frames[k] for k in self.foot_index]
+        self.com_filter = AxisFilter(
+            dt,
+            COM_JERK_NOISE,
+            np.array([[1.0, 0.0, 0.0], [0.0, 0.0, 1.0]]),
+            np.array([COM_POSITION_NOISE_M, TRUNK_ACCELERATION_NOISE]),
+            axes=2,
+        )
+        self.tilt_filter = AxisFilter(
+            dt, TILT_JERK_NOISE, np.array([[1.0, 0.0, 0.0]]), np.array([TILT_NOISE_RAD]), axes=2
+        )
+        self._q = np.zeros(self.model.nq)
+        self._v = np.zeros(self.model.nv)
+        self._rotation = np.eye(3)
+
+    def reset(self, initial: RobotState, sensors: Sensors) -> None:
+        q = self.robot_model.configuration(initial)
+        pin.framesForwardKinematics(self.model, self.data, q)
+        heights = [self.data.oMf[f].translation[2] for f in self.foot_frames]
+        self.last_time = sensors.time
+        self.support = int(np.argmin(heights))  # index into foot_frames
+        self.anchor = self.data.oMf[self.foot_frames[self.support]].translation.copy()
+        five = self.five.evaluate(q)
+        self.com_filter.reset(five.com_world[:2])
+        self.tilt_filter.reset(angles_of_axis(five.axes_world[:, 2]))
+
+    def estimate(self, sensors: Sensors) -> RobotState:
+        step = sensors.time - self.last_time
+        if step > 1e-9 and abs(step - self.dt) > 1e-9:
+            raise ValueError(f"five_mass_kalman is tuned for {self.dt} s periods, got {step} s")
+        self.last_time = sensors.time
+        orientation = sensors.imu_orientation_world
+        q, v, rotation = self._q, self._v, self._rotation
+        relative_configuration(
+            orientation,
+            sensors.imu_angular_velocity_imu,
+            sensors.joint_position,
+            sensors.joint_velocity,
+            q,
+            v,
+            rotation,
+        )
+        model, data = self.model, self.data
+        pin.forwardKinematics(model, data, q, v)
+        pin.updateFramePlacements(model, data)
+        soles = [data.oMf[f].translation for f in self.foot_frames]
+        other = 1 - self.support
+        if soles[other][2] < soles[self.support][2] - self.hysteresis:  # exchange: odometry
+            base_now = self.anchor - soles[self.support]
+            self.support = other
+            self.anchor = base_now + soles[other]
+        base_position = self.anchor - soles[self.support]
+        base_velocity = -pin.getFrameVelocity(
+            model, data, self.foot_frames[self.support], pin.LOCAL_WORLD_ALIGNED
+        ).linear
+        # the five masses at the relative configuration, then shifted by the base position
+        pin.centerOfMass(model, data, q, v, True)
+        com_relative = np.array(data.com[0])
+        com_velocity = np.array(data.vcom[0]) + base_velocity
+        five = self.five.from_data(data)
+        com = com_relative + base_position
+        trunk_acceleration = rotation @ sensors.imu_linear_acceleration_imu
+        trunk_acceleration[2] -= GRAVITY  # eq. 6
+        state = self.com_filter.update(np.array([com[:2], trunk_acceleration[:2]]))
+        tilt = self.tilt_filter.update(angles_of_axis(five.axes_world[:, 2])[None])
+        height = com[2] - (soles[self.support][2] + base_position[2])
+        zmp = np.array(
+            [*(state[0] - height / GRAVITY * state[2]), soles[self.support][2] + base_position[2]]
+        )  # eq. 7
+        return RobotState(
+            base_position,
+            orientation.copy(),
+            base_velocity,
+            rotation @ sensors.imu_angular_velocity_imu,
+            sensors.joint_position,
+            sensors.joint_velocity,
+            time=sensors.time,
+            com_position_world=np.array([state[0, 0], state[0, 1], com[2]]),
+            com_velocity_world=np.array([state[1, 0], state[1, 1], com_velocity[2]]),
+            contact_wrench_limb=sensors.contact_wrench_limb,
+            contact_flag_limb=sensors.contact_flag_limb,
+            zmp_world=zmp,
+            com_acceleration_world=np.array([state[2, 0], state[2, 1], 0.0]),
+            inertia_tilt=tilt[0].copy(),
+            inertia_tilt_rate=tilt[1].copy(),
+        )
+
+
+def _make(model: RobotModel) -> FiveMassKalmanEstimator:
+    return FiveMassKalmanEstimator(model)
+
+
+register(
+    ComponentSpec(
+        "five_mass_kalman",
+        _make,
+        "Ficht & Behnke: IMU and encoders only, lower-foot odometry, Kalman CoM and ZMP (eq. 6-7)",
+    )
+)

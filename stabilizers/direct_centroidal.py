@@ -1,0 +1,175 @@
+"""Stabilizer `direct_centroidal`: Ficht & Behnke's CoM controller (paper 003, Sec. 3.3,
+eqs. 8-11) and inertia controller (Sec. 3.4, eqs. 12-15), per horizontal axis.
+
+CoM controller. After Choi et al. ([5]), a CoM velocity that steers the CoM x back to the
+reference x_ref and the ZMP p to p_ref,
+
+    x'_zmp = -K_zmp (p_ref - p),   x'_com = K_com (x_ref - x)                         (8)
+    x'_vel = K_vel (x'_ref - x'),  x'_eos = K_eos (x_eos^ref - x_eos)                 (10)
+    x'_ctrl = x'_com + x'_zmp [+ x'_vel + x'_eos]                                     (11)
+    x_i[n] = x'_ctrl[n] dt + (1 - alpha) x_i[n-1],   x_set = x_ref + x_i              (9)
+
+The ZMP term carries Choi's sign (his u = x'_d - k_p (p_d - p) + k_x (x_d - x)); eq. 8 is
+printed with +K_zmp. With the CoM following x'_ctrl and the LIPM p = x - x''/omega^2, the error
+e = x_ref - x obeys (K_zmp / omega^2) e'' + e' + (K_com - K_zmp) e = 0: stable only for
+K_com > K_zmp > 0, and Choi's input-to-state stability condition is K_com > omega > K_zmp > 0
+(`choi_gains`). x_eos are end-of-step positions by eq. 1 over the remaining step time
+t_r (the plan's `step_remaining_s`) with the ZMP at the reference ZMP (the support foot):
+the reference's from (x_ref, x'_ref) and the expected from the estimated (x, x').
+
+Inertia controller. The augmented CoM and ZMP of the flywheel model (eq. 13),
+x~ = x + I theta_f / (m h), p~ = p + I theta_f / (m h), where theta_f is the tilt of the
+principal z axis from its reference (projected angles: toward +x about the y moment, toward
++y about the x moment), are driven by the same law toward x~_ref = x_set and p~_ref = p_ref
+(eq. 14); the leaky integral x~_i of eq. 9 holds the set tilt theta_set = x~_i m h / I (eq. 15),
+the complementary rotation R_c, and R_I^set = R_c R_I^ref (eq. 12).
+
+The ablation modes of the paper's Table 1 are `FeedbackOptions`.
+"""
+
+from __future__ import annotations
+
+import math
+import time
+from dataclasses import dataclass
+
+import numpy as np
+
+from centroidal.lipm import leaky_alpha, lipm_state
+from centroidal.tilt import angles_of_axis, axis_from_angles, tilt_rotation
+from robots.five_mass import FiveMassModel
+from robots.model import RobotModel
+from robots.scene import Scenario
+from robots.types import CentroidalPlan, RobotState, WholeBodyTargets
+from stabilizers.base import StabilizerSpec, register
+
+GRAVITY = 9.81
+VELOCITY_GAIN = 0.5  # K_vel (Sec. 4)
+EOS_GAIN_RATIO = 0.5  # K_eos = 0.5 K_com (Sec. 4)
+
+
+def choi_gains(omega: float) -> tuple[float, float]:
+    """(K_com, K_zmp) [1/s] inside Choi et al.'s condition K_com > omega > K_zmp > 0: the
+    paper sets them "according to [5], but with quite high gains due to the leaky integration"
+    without numbers; we take K_com = 2 omega and K_zmp = omega / 2 (the middle of each range
+    on a log scale between omega / 4 and 4 omega), for the augmented CoM too."""
+    return 2.0 * omega, 0.5 * omega
+
+
+@dataclass(frozen=True)
+class FeedbackOptions:
+    """The CoM and inertia controllers' parts (Table 1's rows): `closed_loop` False is the
+    open loop (x_set = x_ref); `leaky` False integrates with alpha = 0; `extended` adds
+    x'_vel and x'_eos; `inertia` runs the inertia controller."""
+
+    closed_loop: bool = True
+    leaky: bool = True
+    extended: bool = True
+    inertia: bool = True
+
+
+class DirectCentroidalStabilizer:
+    name = "direct_centroidal"
+
+    def __init__(self, dt: float, options: FeedbackOptions | None = None) -> None:
+        self.dt = dt
+        self.options = options or FeedbackOptions()
+        self.alpha = leaky_alpha(1.0 / dt) if self.options.leaky else 0.0
+
+    def reset(self, robot: RobotModel, scenario: Scenario, state: RobotState) -> None:
+        self.limb_names = robot.robot.limb_names
+        self.mass = robot.total_mass
+        five = FiveMassModel(robot).evaluate(robot.configuration(state))
+        self.moments = five.moments  # I_PA in the standing pose (Sec. 3.1: kept constant)
+        self.x_i = np.zeros(2)
+        self.x_aug_i = np.zeros(2)
+        self.omega: float | None = None
+
+    def stabilize(self, t: float, plan: CentroidalPlan, state: RobotState) -> WholeBodyTargets:
+        start = time.perf_counter_ns()
+        options = self.options
+        ground = plan.zmp_planned_world[2]
+        height = plan.com_planned_world[2] - ground
+        omega = math.sqrt(GRAVITY / height)
+        k_com, k_zmp = choi_gains(omega)
+        x_ref = plan.com_planned_world[:2]
+        v_ref = plan.com_velocity_planned_world[:2]
+        p_ref = plan.zmp_planned_world[:2]
+        x = state.com_position_world[:2]
+        v = state.com_velocity_world[:2]
+        p = state.zmp_world[:2]
+        com_target = plan.com_planned_world.copy()
+        axes = plan.inertia_axes_reference_world
+        if options.closed_loop:
+            control = -k_zmp * (p_ref - p) + k_com * (x_ref - x)  # eq. 8
+            if options.extended:
+                control += VELOCITY_GAIN * (v_ref - v)  # eq. 10
+                remaining = plan.step_remaining_s
+                if remaining is not None:
+                    eos_ref = lipm_state(x_ref, v_ref, p_ref, omega, remaining)[0]
+                    eos = lipm_state(x, v, p_ref, omega, remaining)[0]
+                    control += EOS_GAIN_RATIO * k_com * (eos_ref - eos)
+            self.x_i = control * self.dt + (1.0 - self.alpha) * self.x_i  # eq. 9
+            com_target[:2] = x_ref + self.x_i
+            if options.inertia and axes is not None and state.inertia_tilt is not None:
+                axes = self._inertia(com_target[:2], p_ref, x, p, state, axes, height, k_com, k_zmp)
+        in_contact = np.array([name in plan.contact_limbs for name in self.limb_names])
+        return WholeBodyTargets(
+            com_position_world=com_target,
+            base_orientation_world=plan.base_orientation_planned_world,
+            limb_position_world=plan.limb_target_position_world,
+            limb_orientation_world=plan.limb_target_orientation_world,
+            limb_in_contact=in_contact,
+            com_desired_world=com_target,
+            zmp_desired_world=plan.zmp_planned_world,
+            timings_ns={"feedback": time.perf_counter_ns() - start},
+            limb_tracked=plan.limb_tracked,
+            inertia_axes_world=axes,
+        )
+
+    def _inertia(self, x_set, p_ref, x, p, state, axes_ref, height, k_com, k_zmp) -> np.ndarray:
+        """Eqs. 12-15: R_I^set = R_c R_I^ref."""
+        # moments about the axes the tilts turn about: a tilt toward +x turns about y
+        inertia = np.array([self.moments[1], self.moments[0]])
+        scale = inertia / (self.mass * height)
+        theta_f = state.inertia_tilt - angles_of_axis(axes_ref[:, 2])
+        x_aug = x + scale * theta_f  # eq. 13
+        p_aug = p + scale * theta_f
+        control = -k_zmp * (p_ref - p_aug) + k_com * (x_set - x_aug)  # eq. 14
+        self.x_aug_i = control * self.dt + (1.0 - self.alpha) * self.x_aug_i
+        theta_set = self.x_aug_i / scale  # eq. 15
+        rotation = tilt_rotation(axis_from_angles(theta_set[0], theta_set[1]))
+        return rotation @ axes_ref  # eq. 12
+
+
+def _make(options: FeedbackOptions):
+    def factory(dt: float) -> DirectCentroidalStabilizer:
+        return DirectCentroidalStabilizer(dt, options)
+
+    return factory
+
+
+VARIANTS = {
+    "direct_centroidal": (
+        FeedbackOptions(),
+        "Ficht & Behnke 2021: CoM-ZMP, extended and inertia control",
+    ),
+    "direct_centroidal_no_inertia": (
+        FeedbackOptions(inertia=False),
+        "direct_centroidal without the inertia controller (Table 1 ablation)",
+    ),
+    "direct_centroidal_leaky": (
+        FeedbackOptions(extended=False, inertia=False),
+        "CoM-ZMP control with leaky integration only (eq. 8-9; Table 1 ablation)",
+    ),
+    "direct_centroidal_integrator": (
+        FeedbackOptions(leaky=False, extended=False, inertia=False),
+        "CoM-ZMP control with a plain integrator (alpha = 0; Table 1 ablation)",
+    ),
+    "direct_centroidal_open_loop": (
+        FeedbackOptions(closed_loop=False, extended=False, inertia=False),
+        "the references without feedback (Table 1 ablation)",
+    ),
+}
+for _name, (_options, _description) in VARIANTS.items():
+    register(StabilizerSpec(_name, _make(_options), _description))

@@ -1,0 +1,83 @@
+"""The LIPM closed form and Ficht & Behnke's parameter adaptations (paper 003, eqs. 1, 2, 9)."""
+
+import math
+
+import numpy as np
+import pytest
+from scipy.integrate import solve_ivp
+from scipy.optimize import minimize_scalar
+
+from centroidal.lipm import (
+    PAPER_LEAKY_ALPHA,
+    gait_frequency,
+    half_life_s,
+    leaky_alpha,
+    lipm_state,
+    modified_foot_placement,
+    step_primitive,
+    timing_gain,
+)
+
+
+@pytest.mark.parametrize(
+    ("x0", "v0", "zmp"), [(0.03, -0.2, 0.1), (-0.05, 0.4, 0.0), (0.0, 0.0, 0.02)]
+)
+def test_closed_form_equals_a_numerical_integration_of_eq_1(x0, v0, zmp):
+    omega, duration = math.sqrt(9.81 / 0.8), 0.6
+    numeric = solve_ivp(
+        lambda t, s: [s[1], omega**2 * (s[0] - zmp)],
+        (0, duration),
+        [x0, v0],
+        rtol=1e-12,
+        atol=1e-14,
+    )
+    x, v = lipm_state(x0, v0, zmp, omega, duration)
+    assert x == pytest.approx(numeric.y[0, -1], abs=1e-9)
+    assert v == pytest.approx(numeric.y[1, -1], abs=1e-9)
+
+
+def test_the_leaky_integrator_keeps_the_papers_half_life_in_seconds():
+    paper = half_life_s(PAPER_LEAKY_ALPHA, 100.0)
+    assert paper == pytest.approx(math.log(0.5) / math.log(0.97) / 100.0)
+    assert 0.2 < paper < 0.25  # "roughly half the step time" of 1 / 2.6 Hz
+    assert leaky_alpha(100.0) == pytest.approx(PAPER_LEAKY_ALPHA, rel=1e-12)
+    assert half_life_s(leaky_alpha(500.0), 500.0) == pytest.approx(paper, rel=1e-12)
+    # iterate the integrator of eq. 9 with no input: half of x_i is left after the half-life
+    x_i, alpha = 1.0, leaky_alpha(500.0)
+    for _ in range(round(paper * 500)):
+        x_i *= 1 - alpha
+    assert x_i == pytest.approx(0.5, abs=0.002)
+
+
+def test_froude_similarity_of_the_gait_frequency_and_the_timing_gain():
+    assert gait_frequency(0.9) == pytest.approx(2.6)
+    assert gait_frequency(3.6) == pytest.approx(1.3)  # four times as tall: half the frequency
+    assert timing_gain(2.6, 0.9) == pytest.approx(10 * 2.6)  # the paper's K_t = 10 f_g
+    # a 10 cm error on the paper's robot is a 20 cm one on a robot twice as tall
+    assert timing_gain(gait_frequency(1.8), 1.8) * 0.2 == pytest.approx(gait_frequency(1.8))
+
+
+def test_modified_foot_placement_minimises_kajitas_cost():
+    omega, period = 3.4, 0.5
+    x_i, v_i, x_d, v_d = 0.02, 0.3, 0.18, 0.25
+
+    def cost(p):
+        x, v = lipm_state(x_i, v_i, p, omega, period)
+        return 10.0 * (x_d - x) ** 2 + (v_d - v) ** 2
+
+    best = minimize_scalar(cost, bounds=(-1, 1), method="bounded", options={"xatol": 1e-10})
+    assert modified_foot_placement(x_i, v_i, x_d, v_d, omega, period) == pytest.approx(
+        best.x, abs=1e-7
+    )
+
+
+def test_the_walk_primitive_is_a_lipm_solution():
+    """Kajita's primitive: from (-x_bar, v_x) about the support the LIPM reaches (x_bar, v_x)
+    after one step, and laterally from (y_bar, -v_y) it returns to (y_bar, v_y)."""
+    omega, period = 3.4, 0.5
+    x_bar, v_x, y_bar, v_y = step_primitive(0.2, 0.18, omega, period)
+    x, v = lipm_state(-x_bar, v_x, 0.0, omega, period)
+    assert (x, v) == pytest.approx((x_bar, v_x), abs=1e-12)
+    y, w = lipm_state(y_bar, -v_y, 0.0, omega, period)
+    assert (y, w) == pytest.approx((y_bar, v_y), abs=1e-12)
+    assert np.sign(v_y) == np.sign(y_bar)

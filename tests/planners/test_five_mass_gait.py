@@ -1,0 +1,119 @@
+"""Ficht & Behnke's reference generation and stepping controller (paper 003, eqs. 2-5, 16-17)
+on the planner alone, with a state that follows the reference exactly unless a test moves it."""
+
+from dataclasses import replace
+
+import numpy as np
+import pytest
+
+from bench.scenarios import make_scenario, walk
+from planners.five_mass_gait import FiveMassGaitPlanner, SteppingOptions
+from robots.gait import GaitCommand
+from robots.humanoid import humanoid
+from robots.model import RobotModel
+
+DT = 0.002
+
+
+@pytest.fixture(scope="module")
+def model():
+    return RobotModel(humanoid())
+
+
+def _start(model, scenario, options=None):
+    planner = FiveMassGaitPlanner(DT, options)
+    state = model.standing_state()
+    state = replace(
+        state, com_position_world=model.com_position_world(state), com_velocity_world=np.zeros(3)
+    )
+    planner.reset(model, scenario, state)
+    return planner, state
+
+
+def _follow(planner, state, t):
+    plan = planner.plan(t, state)
+    return plan, replace(
+        state,
+        com_position_world=plan.com_planned_world,
+        com_velocity_world=plan.com_velocity_planned_world,
+    )
+
+
+def test_eq_3_steps_wide_then_trailing_toward_the_lateral_command(model):
+    """Moving left, the left foot (support right) steps s_w + 2 v_y / f_g and the right one
+    trails back to s_w; moving right, the mirror image."""
+    for lateral in (0.05, -0.05):
+        scenario = walk(model, gait=GaitCommand(step_length=0.0, lateral_step=lateral))
+        planner, _ = _start(model, scenario)
+        width, v_y = planner.step_width, planner.velocity_command[1]
+        right = planner.feet["right_foot"]
+        left = planner.feet["left_foot"]
+        wide = planner._nominal_after(right, "right_foot", closing=False)
+        trailing = planner._nominal_after(left, "left_foot", closing=False)
+        if lateral > 0:
+            assert wide.position[1] - right.position[1] == pytest.approx(
+                width + 2 * v_y / planner.f_g
+            )
+            assert trailing.position[1] - left.position[1] == pytest.approx(-width)
+        else:
+            assert wide.position[1] - right.position[1] == pytest.approx(width)
+            assert trailing.position[1] - left.position[1] == pytest.approx(
+                -width + 2 * v_y / planner.f_g
+            )
+
+
+def test_the_reference_walks_the_command_with_its_zmp_on_the_support_foot(model):
+    scenario = make_scenario("walk", model)
+    planner, state = _start(model, scenario)
+    com, zmps = [], []
+    for k in range(round(scenario.duration / DT)):
+        plan, state = _follow(planner, state, k * DT)
+        com.append(plan.com_planned_world[:2])
+        if plan.contact_limbs in (("left_foot",), ("right_foot",)):
+            index = model.robot.limb_names.index(plan.contact_limbs[0])
+            zmps.append(plan.zmp_planned_world[:2] - plan.limb_target_position_world[index, :2])
+    com = np.array(com)
+    assert np.abs(zmps).max() < 1e-12  # eq. 1 about the support foot, in single support
+    assert np.abs(np.diff(com, axis=0)).max() < 0.5 * DT  # continuous, below 0.5 m/s
+    assert planner.steps_done == planner.n_steps
+    walked = com[-1, 0] - com[0, 0]
+    goal = scenario.goal_offset_world[0]
+    assert walked == pytest.approx(goal, rel=0.15)  # same speed, same time: about as far
+
+
+def _in_single_support(model, options=None):
+    scenario = make_scenario("walk", model)
+    planner, state = _start(model, scenario, options)
+    t = 0.0
+    while planner.steps_done < 4 or planner.mu < 0.3:
+        _, state = _follow(planner, state, t)
+        t += DT
+    return planner, state, t
+
+
+def test_eq_16_lateral_overshoot_toward_the_swing_leg_hurries_the_step(model):
+    for toward_swing, faster in ((0.02, True), (-0.02, False)):
+        planner, state, t = _in_single_support(model, SteppingOptions(step_size=False))
+        swing_side = 1.0 if planner.support == "right_foot" else -1.0
+        moved = state.com_position_world + np.array([0.0, swing_side * toward_swing, 0.0])
+        planner.plan(t, replace(state, com_position_world=moved))
+        assert (planner.f_tilde > planner.f_g) == faster
+        assert planner.f_tilde != pytest.approx(planner.f_g)
+
+
+def test_eq_17_a_sagittal_lead_lengthens_the_step(model):
+    planner, state, t = _in_single_support(model)
+    nominal = planner.next_nominal.position.copy()
+    moved = state.com_position_world + np.array([0.01, 0.0, 0.0])
+    plan = planner.plan(t, replace(state, com_position_world=moved))
+    lead = planner.next.position - nominal
+    assert lead[0] > 0.0
+    assert lead[1] == pytest.approx(0.0, abs=1e-12)
+    assert plan.footsteps[0].position_world[0] == pytest.approx(planner.next.position[0])
+    # ... and not without step size feedback
+    planner, state, t = _in_single_support(model, SteppingOptions(step_size=False))
+    nominal = planner.next_nominal.position.copy()
+    planner.plan(
+        t, replace(state, com_position_world=state.com_position_world + np.array([0.01, 0, 0]))
+    )
+    np.testing.assert_array_equal(planner.next.position, nominal)

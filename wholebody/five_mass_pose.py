@@ -1,0 +1,169 @@
+"""Whole-body layer `five_mass_pose`: our stand-in for Ficht & Behnke's pose generator (their
+[12], not in the seeds), which turns the CoM, the CoM-relative foot frames and the inertia
+orientation R_I and moments I_PA into joint positions.
+
+It is the whole-body IK (`wholebody.ik`) with the tasks changed to the generator's inputs:
+- the CoM at x_set and the feet at their frames (the IK's CoM and limb tasks; our feet targets
+  are in the world, which is the same once the CoM is where it is set);
+- the principal z axis of the five-mass inertia I_R (`robots.five_mass`) along the z axis of
+  R_I^set: 3 rows with the analytic Jacobian of the eigenvector,
+  de_z = sum_{j in x, y} e_j (e_j^T dI e_z) / (lambda_z - lambda_j), dI from the five point
+  masses' Jacobians (pinocchio's subtree CoM Jacobians);
+- the trunk's yaw at R_I's yaw (the generator turns the trunk to the set inertia yaw psi_I);
+  the trunk's roll and pitch are free, so that the inertia tilt is realised by the upper body
+  against the legs, as the generator's dumbbell tilt;
+- joint positions to the servos, no feed-forward torque (the paper's robot is position
+  controlled, Sec. 4).
+
+How it differs from the paper's generator: it solves one weighted least-squares step per
+period instead of the generator's closed-form top-down construction (virtual leg, dumbbells);
+it does not set the principal moments I_PA (the posture task keeps the arms and legs near the
+nominal posture instead) nor the separate dumbbell yaws psi_l, psi_u; and the straight-support
+-leg constraint (Sec. 2) is an option (`straight_leg`): a task holding the support knee at its
+lower limit plus a margin, with the CoM height freed, instead of a shift of the base frame.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from robots.five_mass import FiveMassModel
+from robots.model import RobotModel
+from robots.types import WholeBodyTargets
+from wholebody.base import ComponentSpec, register
+from wholebody.ik import IKWeights, WholeBodyIK
+from wholebody.ik_only import IkLayer
+
+INERTIA_AXIS_WEIGHT = 1e2  # as the base orientation task's (errors in rad)
+KNEE_MARGIN_RAD = 0.05  # a straight knee less this margin: away from the singularity
+KNEE_WEIGHT = 1e3  # as the CoM task's
+
+
+def inertia_axis_jacobian(
+    mass: np.ndarray,
+    position_world: np.ndarray,
+    jacobians: np.ndarray,
+    axes_world: np.ndarray,
+    moments: np.ndarray,
+) -> np.ndarray:
+    """(3, nv) Jacobian of the principal z axis of the point masses' inertia about their CoM
+    (first-order perturbation of a symmetric eigenproblem). mass (k,), position_world (k, 3),
+    jacobians (k, 3, nv) of the positions, axes_world columns (x, y, z), moments (3,)."""
+    total = mass.sum()
+    com = mass @ position_world / total
+    jacobian_com = np.einsum("i,ijk->jk", mass, jacobians) / total
+    d = position_world - com  # (k, 3)
+    jd = jacobians - jacobian_com[None]  # (k, 3, nv)
+    e_z = axes_world[:, 2]
+    d_z = d @ e_z  # (k,)
+    jd_z = np.einsum("j,ijk->ik", e_z, jd)  # (k, nv)
+    result = np.zeros((3, jacobians.shape[2]))
+    for j in (0, 1):
+        e_j = axes_world[:, j]
+        coupling = -(
+            np.einsum("i,i,ik->k", mass, d_z, np.einsum("j,ijk->ik", e_j, jd))
+            + np.einsum("i,i,ik->k", mass, d @ e_j, jd_z)
+        )
+        result += np.outer(e_j, coupling / (moments[2] - moments[j]))
+    return result
+
+
+def knee_indices(model: RobotModel) -> dict[str, int]:
+    """Per foot limb, the index (in joint order) of the knee on its chain: the joint named
+    *knee between the base and the foot. ValueError naming the foot without one."""
+    robot = model.robot
+    parent_joint = {j.child: j for j in robot.joints}
+    result = {}
+    for limb in robot.limbs:
+        if not limb.name.endswith("foot"):
+            continue
+        link, knee = limb.link, None
+        while link in parent_joint:
+            joint = parent_joint[link]
+            if "knee" in joint.name:
+                knee = joint.name
+            link = joint.parent
+        if knee is None:
+            raise ValueError(f"{robot.name}: no joint named *knee on the chain of {limb.name}")
+        result[limb.name] = robot.joint_names.index(knee)
+    return result
+
+
+class FiveMassIK(WholeBodyIK):
+    """The IK with the inertia-axis task and the base's yaw only (see the module)."""
+
+    def __init__(
+        self,
+        model: RobotModel,
+        dt: float,
+        weights: IKWeights | None = None,
+        straight_leg: bool = True,
+    ) -> None:
+        super().__init__(model, dt, weights, extra_rows=3 + 2)
+        self.five = FiveMassModel(model)
+        self.base_orientation_weights[:2] = 0.0  # roll and pitch: free
+        self.straight_leg = straight_leg
+        knees = knee_indices(model)
+        limbs = model.robot.limb_names
+        self.knees = [(limbs.index(name), index) for name, index in knees.items()]
+
+    def _extra_rows(self, q: np.ndarray, targets: WholeBodyTargets, n: int) -> int:
+        if self.straight_leg:
+            n = self._straight_legs(q, targets, n)
+        axes_target = targets.inertia_axes_world
+        if axes_target is None:
+            return n
+        five, jacobians = self.five.jacobians(q)
+        self._jacobian[n : n + 3] = inertia_axis_jacobian(
+            five.mass, five.position_world, jacobians, five.axes_world, five.moments
+        )
+        self._error[n : n + 3] = axes_target[:, 2] - five.axes_world[:, 2]
+        self._weight[n : n + 3] = INERTIA_AXIS_WEIGHT
+        return n + 3
+
+    def _straight_legs(self, q: np.ndarray, targets: WholeBodyTargets, n: int) -> int:
+        """The straight-support-leg constraint: each contact leg's knee at its lower limit
+        plus `KNEE_MARGIN_RAD` (weight `KNEE_WEIGHT`), and the CoM's height task freed (its
+        row is the last of the CoM rows written before this call: see `WholeBodyIK.solve`)."""
+        supporting = [(limb, j) for limb, j in self.knees if targets.limb_in_contact[limb]]
+        if not supporting:
+            return n
+        self._weight[n - 6 + 2] = 0.0  # the CoM z row (CoM rows, then 3 base rows, end at n)
+        for _, j in supporting:
+            self._jacobian[n] = 0.0
+            self._jacobian[n, 6 + j] = 1.0
+            self._error[n] = self.lower[j] + KNEE_MARGIN_RAD - q[7 + j]
+            self._weight[n] = KNEE_WEIGHT
+            n += 1
+        return n
+
+
+class FiveMassPoseLayer(IkLayer):
+    """`ik`'s command (joint positions to the servos, no feed-forward torque) from the
+    five-mass IK."""
+
+    name = "five_mass_pose"
+
+    def __init__(self, model: RobotModel, dt: float, straight_leg: bool = True) -> None:
+        super().__init__(model, dt)
+        self.ik = FiveMassIK(model, dt, straight_leg=straight_leg)
+
+
+def _bent(model: RobotModel, dt: float) -> FiveMassPoseLayer:
+    return FiveMassPoseLayer(model, dt, straight_leg=False)
+
+
+register(
+    ComponentSpec(
+        "five_mass_pose",
+        FiveMassPoseLayer,
+        "IK with five-mass CoM, inertia-axis, foot and straight-support-leg tasks (Ficht & Behnke)",
+    )
+)
+register(
+    ComponentSpec(
+        "five_mass_pose_bent",
+        _bent,
+        "five_mass_pose without the straight-support-leg constraint (Table 1 ablation)",
+    )
+)
