@@ -271,8 +271,9 @@ def build_parser() -> argparse.ArgumentParser:
     )
     run.add_argument(
         "--estimator",
-        default=DEFAULT_ESTIMATOR,
-        help=f"an estimator name (default {DEFAULT_ESTIMATOR}; see `centrobench list`)",
+        default=None,
+        help=f"an estimator name (default: the controller's own, else {DEFAULT_ESTIMATOR}; "
+        "see `centrobench list`)",
     )
     run.add_argument(
         "--seed", type=_seed("--seed"), default=0, help="random seed, 0 to 2**32 - 1 (default 0)"
@@ -512,6 +513,7 @@ def _resolve_controller(args: argparse.Namespace) -> None:
             spec.stabilizer,
             spec.whole_body,
         )
+        args.estimator = args.estimator or spec.estimator or DEFAULT_ESTIMATOR
         return
     if args.planner is None or args.stabilizer is None:
         raise UsageError(
@@ -519,6 +521,7 @@ def _resolve_controller(args: argparse.Namespace) -> None:
             f"{', '.join(CONTROLLERS)}) or --planner and --stabilizer"
         )
     args.whole_body = args.whole_body or DEFAULT_WHOLE_BODY
+    args.estimator = args.estimator or DEFAULT_ESTIMATOR
 
 
 def _validate_names(args: argparse.Namespace) -> None:
@@ -703,7 +706,7 @@ def _print_summary(summary: dict, as_json: bool) -> None:
 
 
 def _list(args: argparse.Namespace) -> int:
-    from bench.controllers import CONTROLLERS
+    from bench.controllers import ABLATIONS, CONTROLLERS
     from bench.scenarios import SCENARIOS
     from estimators.base import ESTIMATORS
     from planners.base import PLANNERS
@@ -716,13 +719,19 @@ def _list(args: argparse.Namespace) -> int:
             for n in registry.names()
         }
 
+    def show(specs) -> None:
+        for name, spec in specs.items():
+            print(
+                f"  {name}\n      ({spec.planner}, {spec.stabilizer}, {spec.whole_body}) "
+                f"{spec.description}\n      can: {', '.join(sorted(spec.can))}"
+                + (f"; needs: {', '.join(sorted(spec.needs))}" if spec.needs else "")
+                + (f"; estimator: {spec.estimator}" if spec.estimator else "")
+            )
+
     print("controllers (planner, stabilizer, whole-body layer):")
-    for name, spec in CONTROLLERS.items():
-        print(
-            f"  {name}\n      ({spec.planner}, {spec.stabilizer}, {spec.whole_body}) "
-            f"{spec.description}\n      can: {', '.join(sorted(spec.can))}"
-            + (f"; needs: {', '.join(sorted(spec.needs))}" if spec.needs else "")
-        )
+    show(CONTROLLERS)
+    print("ablations (not in a sweep of all controllers):")
+    show({n: s for n, s in ABLATIONS.items() if n not in CONTROLLERS})
     sections = {
         "planners": described(PLANNERS),
         "stabilizers": described(STABILIZERS),

@@ -13,6 +13,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
+from estimators import DEFAULT_ESTIMATOR
 from planners.base import PLANNERS, planner_spec
 from robots.registry import CAPABILITIES
 from stabilizers.base import STABILIZERS, stabilizer_spec
@@ -25,6 +26,11 @@ class ControllerSpec:
     stabilizer: str
     description: str = ""
     whole_body: str = DEFAULT_WHOLE_BODY
+    alias: str | None = None
+    """A name of its own (a method whose parts only make sense together); None: the parts'."""
+    estimator: str | None = None
+    """The estimator the method comes with (None: `estimators.DEFAULT_ESTIMATOR`), used
+    wherever an episode or a sweep does not name another."""
 
     @property
     def can(self) -> frozenset[str]:
@@ -38,7 +44,14 @@ class ControllerSpec:
         return planner_spec(self.planner).needs | stabilizer_spec(self.stabilizer).needs
 
     @property
+    def episode_estimator(self) -> str:
+        """The estimator its episodes run with unless told otherwise."""
+        return self.estimator or DEFAULT_ESTIMATOR
+
+    @property
     def name(self) -> str:
+        if self.alias is not None:
+            return self.alias
         pair = f"{self.planner}+{self.stabilizer}"
         return pair if self.whole_body == DEFAULT_WHOLE_BODY else f"{pair}+{self.whole_body}"
 
@@ -69,12 +82,58 @@ CONTROLLERS: dict[str, ControllerSpec] = {
     )
 }
 
+DIRECT_CENTROIDAL = "Ficht & Behnke 2021: direct centroidal control with a five-mass model"
+DIRECT_CENTROIDAL_ROWS = (
+    # Table 1's rows in the paper's order: (row, planner, stabilizer, whole-body layer); each
+    # adds a component to the row before, the last drops the inertia controller again
+    ("open_loop", "five_mass_gait_fixed", "direct_centroidal_open_loop", "five_mass_pose_bent"),
+    ("straight_leg", "five_mass_gait_fixed", "direct_centroidal_open_loop", "five_mass_pose"),
+    ("closed_loop", "five_mass_gait_fixed", "direct_centroidal_integrator", "five_mass_pose"),
+    ("leaky", "five_mass_gait_fixed", "direct_centroidal_leaky", "five_mass_pose"),
+    ("extended", "five_mass_gait_fixed", "direct_centroidal_no_inertia", "five_mass_pose"),
+    ("inertia", "five_mass_gait_fixed", "direct_centroidal", "five_mass_pose"),
+    ("step_timing", "five_mass_gait_timing", "direct_centroidal", "five_mass_pose"),
+    ("step_size", "five_mass_gait", "direct_centroidal", "five_mass_pose"),
+    ("no_inertia", "five_mass_gait", "direct_centroidal_no_inertia", "five_mass_pose"),
+    # ours, not a row of the paper: every component but the two that fail on our robot (the
+    # straight-support-leg constraint and the inertia controller; README, issue 17 findings)
+    ("bent_no_inertia", "five_mass_gait", "direct_centroidal_no_inertia", "five_mass_pose_bent"),
+)
+
+
+def _direct_centroidal(row: str, planner: str, stabilizer: str, layer: str) -> ControllerSpec:
+    """Table 1's `row` as a controller: "step_size" (every component) is `direct_centroidal`,
+    the others `direct_centroidal/<row>`; all with their own estimator (IMU and encoders)."""
+    return ControllerSpec(
+        planner,
+        stabilizer,
+        f"{DIRECT_CENTROIDAL} ("
+        + ("ours: bent knees, no inertia control" if row == "bent_no_inertia" else "Table 1: ")
+        + ("" if row == "bent_no_inertia" else row.replace("_", " "))
+        + ")",
+        layer,
+        alias="direct_centroidal" if row == "step_size" else f"direct_centroidal/{row}",
+        estimator="five_mass_kalman",
+    )
+
+
+ABLATIONS: dict[str, ControllerSpec] = {
+    spec.name: spec for spec in (_direct_centroidal(*row) for row in DIRECT_CENTROIDAL_ROWS)
+}
+"""Controllers that exist to take a method apart (Ficht & Behnke's Table 1): named like
+any controller, but not in `CONTROLLERS`, so that a sweep of "all" and the main job leave
+them out; the Table 1 protocol runs them."""
+CONTROLLERS["direct_centroidal"] = ABLATIONS["direct_centroidal"]
+CONTROLLERS["direct_centroidal/bent_no_inertia"] = ABLATIONS["direct_centroidal/bent_no_inertia"]
+
 
 def controller_spec(name: str) -> ControllerSpec:
     """The registered controller `name`, or any "<planner>+<stabilizer>[+<whole-body
     layer>]" of registered parts. KeyError naming the valid choices otherwise."""
     if name in CONTROLLERS:
         return CONTROLLERS[name]
+    if name in ABLATIONS:
+        return ABLATIONS[name]
     parts = name.split("+")
     if len(parts) == 2:
         parts.append(DEFAULT_WHOLE_BODY)
@@ -89,7 +148,8 @@ def controller_spec(name: str) -> ControllerSpec:
                 return spec
         return ControllerSpec(parts[0], parts[1], "unregistered combination", parts[2])
     raise KeyError(
-        f"unknown controller {name!r}; choose one of: {', '.join(CONTROLLERS)} "
+        f"unknown controller {name!r}; choose one of: {', '.join(CONTROLLERS)}, "
+        f"{', '.join(n for n in ABLATIONS if n not in CONTROLLERS)} "
         f"(or any <planner>+<stabilizer>[+<whole-body layer>] with planners "
         f"{', '.join(PLANNERS.names())}, stabilizers {', '.join(STABILIZERS.names())} and "
         f"whole-body layers {', '.join(WHOLE_BODY_LAYERS.names())})"

@@ -37,7 +37,7 @@ from dataclasses import asdict, dataclass, field
 from pathlib import Path
 from typing import Any
 
-from bench.controllers import CONTROLLERS, controller_spec, refusal
+from bench.controllers import CONTROLLERS, ControllerSpec, controller_spec, refusal
 from bench.limits import (
     CONTROL_PERIOD_S,
     FRICTION_MAX,
@@ -147,6 +147,13 @@ class SweepSpec:
         """Wall-clock budget [s] of an episode of `simulated_s` simulated seconds."""
         return self.timeout_base_s + self.timeout_per_sim_s * simulated_s
 
+    def estimator_of(self, controller: ControllerSpec) -> str:
+        """The spec's estimator, unless it is the default and the controller comes with its
+        own (`ControllerSpec.estimator`)."""
+        if self.estimator == DEFAULT_ESTIMATOR and controller.estimator is not None:
+            return controller.estimator
+        return self.estimator
+
     def episodes(self) -> list[Episode]:
         """Every episode of the grid, in a fixed order, each with a stable id."""
         result = []
@@ -162,7 +169,7 @@ class SweepSpec:
                                 whole_body=pair.whole_body,
                                 sim=sim,
                                 seed=seed,
-                                estimator=self.estimator,
+                                estimator=self.estimator_of(pair),
                                 scale=scale,
                                 friction=friction,
                             )

@@ -6,10 +6,16 @@ the IMU and the joint encoders only, no force sensors.
 - Support foot: the lower of the two soles (world z through the IMU's orientation and the
   encoders), switched only when the other sole is lower by more than `hysteresis` [m] (the
   paper's "semi double support" band; 5 mm at scale 1, scaled with the robot).
-- Odometry: the support sole is anchored where the kinematics put it when it became the
-  support, and the base is placed so that it stays there; the base velocity makes the support
-  sole's velocity zero. (The paper keeps a ground frame Sigma_G half a step width beside the
-  support foot; a world frame carried over support exchanges is the same odometry.)
+- Ground frame and odometry: the paper measures the state in a ground frame Sigma_G tied to
+  the support foot ("laterally offset from the supporting foot by half of the step width from
+  the last step taken") so that the measured and the control state are synchronised. Here the
+  support sole is anchored on the plan's foothold for it while the plan has that foot as its
+  support (`follow`), which expresses the measured CoM relative to the support foot in the
+  frame of the reference; when the two disagree (around an exchange) the sole stays where
+  the kinematics put it when it became the support (odometry over the exchange). The base is
+  placed so that the support sole is at its anchor; the base velocity makes the support sole's
+  velocity zero. (With a pure odometry world instead, each touchdown error becomes a CoM
+  error that the controller chases: measured, the walk fell after 6.2 s in MuJoCo.)
 - CoM: the five-mass CoM (`robots.five_mass`), which is the full robot's CoM.
 - A Kalman filter per horizontal axis on [x, x', x''] with the "linear mass model" (constant
   acceleration, jerk as process noise; the paper does not enforce the LIPM in the filter),
@@ -18,8 +24,11 @@ the IMU and the joint encoders only, no force sensors.
   The filter is time-invariant, so its steady-state gain is computed once from the discrete
   Riccati equation (scipy).
 - ZMP (eq. 7): p = x^ - z^ / g x^'', with z^ the CoM height above the support sole.
-- A second filter of the same form on the projected tilt angles of the principal z axis of
-  inertia (`centroidal.tilt`), measuring the angles only, gives their rates.
+- A second filter of the same form on the flywheel angle, measuring the angles only, gives
+  their rates: the projected tilt angles (`centroidal.tilt`) of the principal z axis of
+  inertia less those of the line from the feet's midpoint to the CoM (the pendulum of eq. 5's
+  neutral tilt: "the torque of a flywheel attached to a pendulum is zero [when] it does not
+  rotate with respect to it").
 
 The sensors' contact flags and wrenches are passed through to the state for the runner's
 record (footsteps taken, measured wrenches); nothing here reads them.
@@ -36,7 +45,7 @@ from centroidal.tilt import angles_of_axis
 from estimators.base import ComponentSpec, EstimatorBase, register
 from robots.five_mass import FiveMassModel
 from robots.model import RobotModel
-from robots.types import RobotState, Sensors
+from robots.types import CentroidalPlan, RobotState, Sensors
 
 GRAVITY = 9.81
 HYSTERESIS_M = 0.005  # [m] at scale 1
@@ -90,6 +99,7 @@ class FiveMassKalmanEstimator(EstimatorBase):
         self.five = FiveMassModel(model)
         self.dt = dt
         self.hysteresis = HYSTERESIS_M * model.robot.scale
+        self.limb_names = list(model.robot.limb_names)
         self.foot_frames = [self.limb_frames[k] for k in self.foot_index]
         self.com_filter = AxisFilter(
             dt,
@@ -110,11 +120,28 @@ class FiveMassKalmanEstimator(EstimatorBase):
         pin.framesForwardKinematics(self.model, self.data, q)
         heights = [self.data.oMf[f].translation[2] for f in self.foot_frames]
         self.last_time = sensors.time
+        self.planned_support: int | None = None
+        self.planned_position = np.zeros((len(self.limb_frames), 3))
         self.support = int(np.argmin(heights))  # index into foot_frames
         self.anchor = self.data.oMf[self.foot_frames[self.support]].translation.copy()
         five = self.five.evaluate(q)
         self.com_filter.reset(five.com_world[:2])
-        self.tilt_filter.reset(angles_of_axis(five.axes_world[:, 2]))
+        soles = [self.data.oMf[f].translation for f in self.foot_frames]
+        pendulum = five.com_world - (soles[0] + soles[1]) / 2
+        self.tilt_filter.reset(angles_of_axis(five.axes_world[:, 2]) - angles_of_axis(pendulum))
+
+    def follow(self, plan: CentroidalPlan) -> None:
+        """The plan's support foot and footholds: the ground frame in which the reference is
+        expressed (see the module)."""
+        contacts = plan.contact_limbs
+        self.planned_support = (
+            self.limb_names.index(contacts[0])
+            if len(contacts) == 1 and contacts[0] in self.limb_names
+            else None
+        )
+        if len(contacts) == 2:  # double support: the foot found below is on its foothold
+            self.planned_support = self.foot_index[self.support]
+        self.planned_position = plan.limb_target_position_world
 
     def estimate(self, sensors: Sensors) -> RobotState:
         step = sensors.time - self.last_time
@@ -141,6 +168,11 @@ class FiveMassKalmanEstimator(EstimatorBase):
             base_now = self.anchor - soles[self.support]
             self.support = other
             self.anchor = base_now + soles[other]
+        support_limb = self.foot_index[self.support]
+        if self.planned_support is not None and self.planned_support == support_limb:
+            moved = self.planned_position[support_limb] - self.anchor
+            self.anchor = self.planned_position[support_limb]  # Sigma_G on the plan's foothold
+            self.com_filter.state[0] += moved[:2]  # the frame moved, not the CoM
         base_position = self.anchor - soles[self.support]
         base_velocity = -pin.getFrameVelocity(
             model, data, self.foot_frames[self.support], pin.LOCAL_WORLD_ALIGNED
@@ -154,7 +186,9 @@ class FiveMassKalmanEstimator(EstimatorBase):
         trunk_acceleration = rotation @ sensors.imu_linear_acceleration_imu
         trunk_acceleration[2] -= GRAVITY  # eq. 6
         state = self.com_filter.update(np.array([com[:2], trunk_acceleration[:2]]))
-        tilt = self.tilt_filter.update(angles_of_axis(five.axes_world[:, 2])[None])
+        pendulum = com_relative - (soles[0] + soles[1]) / 2  # feet's midpoint to CoM
+        flywheel = angles_of_axis(five.axes_world[:, 2]) - angles_of_axis(pendulum)
+        tilt = self.tilt_filter.update(flywheel[None])
         height = com[2] - (soles[self.support][2] + base_position[2])
         zmp = np.array(
             [*(state[0] - height / GRAVITY * state[2]), soles[self.support][2] + base_position[2]]

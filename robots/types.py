@@ -65,8 +65,9 @@ class RobotState:
     com_acceleration_world: np.ndarray | None = None
     """[m/s^2] the CoM acceleration, from estimators that estimate it (Ficht & Behnke eq. 6)."""
     inertia_tilt: np.ndarray | None = None
-    """(2,) [rad] projected angles (toward +x, toward +y) of the principal z axis of inertia
-    from the vertical (`centroidal.tilt`), from five-mass estimators; None otherwise."""
+    """(2,) [rad] the flywheel angle of a five-mass estimator: the projected angles (toward
+    +x, toward +y; `centroidal.tilt`) of the principal z axis of inertia less those of the line
+    from the feet's midpoint to the CoM (Ficht & Behnke eq. 5); None from other estimators."""
     inertia_tilt_rate: np.ndarray | None = None
     """(2,) [rad/s] their rates."""
 

@@ -78,6 +78,7 @@ class DirectCentroidalStabilizer:
 
     def reset(self, robot: RobotModel, scenario: Scenario, state: RobotState) -> None:
         self.limb_names = robot.robot.limb_names
+        self.feet = [k for k, name in enumerate(self.limb_names) if name.endswith("foot")]
         self.mass = robot.total_mass
         five = FiveMassModel(robot).evaluate(robot.configuration(state))
         self.moments = five.moments  # I_PA in the standing pose (Sec. 3.1: kept constant)
@@ -98,6 +99,8 @@ class DirectCentroidalStabilizer:
         x = state.com_position_world[:2]
         v = state.com_velocity_world[:2]
         p = state.zmp_world[:2]
+        if not math.isfinite(p[0] + p[1]):  # no ZMP measured (no force): no ZMP feedback
+            p = p_ref
         com_target = plan.com_planned_world.copy()
         axes = plan.inertia_axes_reference_world
         if options.closed_loop:
@@ -111,8 +114,27 @@ class DirectCentroidalStabilizer:
                     control += EOS_GAIN_RATIO * k_com * (eos_ref - eos)
             self.x_i = control * self.dt + (1.0 - self.alpha) * self.x_i  # eq. 9
             com_target[:2] = x_ref + self.x_i
-            if options.inertia and axes is not None and state.inertia_tilt is not None:
-                axes = self._inertia(com_target[:2], p_ref, x, p, state, axes, height, k_com, k_zmp)
+            if axes is not None:
+                feet = plan.limb_target_position_world[self.feet].mean(axis=0)
+                reference = _unit(plan.com_planned_world - feet)
+                moved = _unit(com_target - feet)
+                # eq. 5 for the set CoM (the generator's feet are relative to it): the reference
+                # axes turned with the feet-to-CoM line
+                axes_set = tilt_rotation(moved) @ tilt_rotation(reference).T @ axes
+                if options.inertia and state.inertia_tilt is not None:
+                    neutral = angles_of_axis(axes[:, 2]) - angles_of_axis(reference)
+                    axes_set = self._inertia(
+                        com_target[:2],
+                        p_ref,
+                        x,
+                        p,
+                        state.inertia_tilt - neutral,
+                        axes_set,
+                        height,
+                        k_com,
+                        k_zmp,
+                    )
+                axes = axes_set
         in_contact = np.array([name in plan.contact_limbs for name in self.limb_names])
         return WholeBodyTargets(
             com_position_world=com_target,
@@ -127,12 +149,12 @@ class DirectCentroidalStabilizer:
             inertia_axes_world=axes,
         )
 
-    def _inertia(self, x_set, p_ref, x, p, state, axes_ref, height, k_com, k_zmp) -> np.ndarray:
-        """Eqs. 12-15: R_I^set = R_c R_I^ref."""
+    def _inertia(self, x_set, p_ref, x, p, theta_f, axes_ref, height, k_com, k_zmp) -> np.ndarray:
+        """Eqs. 12-15: R_I^set = R_c R_I^ref; theta_f (2,) [rad] the flywheel angle (the
+        estimator's, less the reference's neutral lean)."""
         # moments about the axes the tilts turn about: a tilt toward +x turns about y
         inertia = np.array([self.moments[1], self.moments[0]])
         scale = inertia / (self.mass * height)
-        theta_f = state.inertia_tilt - angles_of_axis(axes_ref[:, 2])
         x_aug = x + scale * theta_f  # eq. 13
         p_aug = p + scale * theta_f
         control = -k_zmp * (p_ref - p_aug) + k_com * (x_set - x_aug)  # eq. 14
@@ -140,6 +162,10 @@ class DirectCentroidalStabilizer:
         theta_set = self.x_aug_i / scale  # eq. 15
         rotation = tilt_rotation(axis_from_angles(theta_set[0], theta_set[1]))
         return rotation @ axes_ref  # eq. 12
+
+
+def _unit(vector: np.ndarray) -> np.ndarray:
+    return vector / math.sqrt(vector @ vector)
 
 
 def _make(options: FeedbackOptions):

@@ -1,0 +1,92 @@
+"""Ficht & Behnke's controller in the loop (issue 17), both simulators: the configuration that
+walks on our robot, its step adaptation under the walking push that every earlier controller
+falls under, and the two components that do not work on our robot yet (strict xfails naming
+the measurement)."""
+
+import numpy as np
+import pytest
+
+from bench.controllers import controller_spec
+from bench.runner import EpisodeSpec, run_episode
+from bench.scenarios import make_scenario
+from robots.humanoid import humanoid
+from robots.model import cached_model
+
+SIMS = ("mujoco", "pybullet")
+WALKING = "direct_centroidal/bent_no_inertia"
+
+
+def _run(controller: str, sim: str, scenario: str, **kwargs):
+    spec = controller_spec(controller)
+    return run_episode(
+        EpisodeSpec(
+            spec.planner,
+            spec.stabilizer,
+            sim,
+            scenario,
+            estimator=spec.estimator,
+            whole_body=spec.whole_body,
+            **kwargs,
+        )
+    )
+
+
+@pytest.fixture(scope="module")
+def walks():
+    return {sim: _run(WALKING, sim, "walk") for sim in SIMS}
+
+
+@pytest.fixture(scope="module")
+def pushed():
+    return {
+        sim: _run(WALKING, sim, "walk_push", push_impulse=15.0, push_direction_deg=90.0)
+        for sim in SIMS
+    }
+
+
+@pytest.mark.parametrize("sim", SIMS)
+def test_it_walks_the_walk_to_its_goal(walks, sim):
+    """`walk`'s 10 steps of 0.9 s are 18 of the controller's own (f_g = 1.98 Hz, 0.51 s) at
+    the same speed: all made, and the walk ends within 5 cm of the gait command's goal
+    (measured 1.2 cm MuJoCo, 2.0 cm PyBullet)."""
+    summary = walks[sim].summary
+    assert summary["status"] == "ok"
+    assert summary["final_position_error_m"] < 0.05
+    landed = walks[sim].footsteps
+    assert len(landed) >= 18  # touchdowns the simulator saw (a scuffing swing adds some)
+    assert summary["distance_walked_m"] == pytest.approx(1.125, abs=0.1)
+
+
+@pytest.mark.parametrize("sim", SIMS)
+def test_a_15_ns_walking_push_to_the_left_is_survived_by_stepping_elsewhere(walks, pushed, sim):
+    """The push every fixed-schedule controller falls under (issue 15): survived, and the
+    footsteps after it land away from the unpushed walk's (the stepping controller moved
+    them; with fixed stepping, five_mass_gait_fixed, the same push fells it at 6.2 s)."""
+    summary = pushed[sim].summary
+    assert summary["status"] == "ok"
+    push_time = make_scenario("walk_push", cached_model(humanoid())).pushes[0].time
+    after = pushed[sim].footsteps[pushed[sim].footsteps["touchdown_time_s"] > push_time]
+    before = walks[sim].footsteps[walks[sim].footsteps["touchdown_time_s"] > push_time]
+    count = min(len(after), len(before), 4)
+    moved = np.hypot(
+        after["x_m"].to_numpy()[:count] - before["x_m"].to_numpy()[:count],
+        after["y_m"].to_numpy()[:count] - before["y_m"].to_numpy()[:count],
+    )
+    assert moved.max() > 0.02
+
+
+@pytest.mark.xfail(
+    strict=True,
+    reason="inertia controller unstable on our robot: falls at 0.18 s standing (issue 17 note)",
+)
+def test_the_full_method_with_inertia_control_stands():
+    assert _run("direct_centroidal", "mujoco", "stand", duration=2.0).summary["status"] == "ok"
+
+
+@pytest.mark.xfail(
+    strict=True,
+    reason="straight-support-leg task: the walk falls at 3.6 s in MuJoCo (issue 17 note)",
+)
+def test_the_straight_leg_constraint_walks():
+    summary = _run("direct_centroidal/no_inertia", "mujoco", "walk").summary
+    assert summary["status"] == "ok"
