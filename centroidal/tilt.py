@@ -21,18 +21,29 @@ def angles_of_axis(axis: np.ndarray) -> np.ndarray:
     return np.array([math.atan2(axis[0], axis[2]), math.atan2(axis[1], axis[2])])
 
 
+def cross(a: np.ndarray, b: np.ndarray) -> np.ndarray:
+    """a x b of two 3-vectors (numpy's `cross` costs about 20 us per call on 3-vectors)."""
+    a0, a1, a2 = a.tolist()
+    b0, b1, b2 = b.tolist()
+    return np.array([a1 * b2 - a2 * b1, a2 * b0 - a0 * b2, a0 * b1 - a1 * b0])
+
+
 def tilt_rotation(axis: np.ndarray) -> np.ndarray:
     """The rotation of least angle that turns the world z axis onto the unit `axis` (Rodrigues'
-    formula about z x axis)."""
-    z = np.array([0.0, 0.0, 1.0])
-    cross = np.cross(z, axis)
-    sine = math.sqrt(cross @ cross)
-    cosine = float(axis[2])
-    if sine < 1e-12:
+    formula about z x axis: R = I + [k] sin + [k]^2 (1 - cos), written out)."""
+    x, y, z = axis.tolist()
+    sine_squared = x * x + y * y  # |z_world x axis|^2
+    if sine_squared < 1e-24:
         return np.eye(3)
-    k = cross / sine
-    skew = np.array([[0.0, -k[2], k[1]], [k[2], 0.0, -k[0]], [-k[1], k[0], 0.0]])
-    return np.eye(3) + sine * skew + (1.0 - cosine) * skew @ skew
+    # k = (-y, x, 0) / sine; (1 - cos) / sine^2 = 1 / (1 + cos)
+    c = 1.0 / (1.0 + z)
+    return np.array(
+        [
+            [1.0 - x * x * c, -x * y * c, x],
+            [-x * y * c, 1.0 - y * y * c, y],
+            [-x, -y, z],
+        ]
+    )
 
 
 def yaw_rotation(yaw: float) -> np.ndarray:
@@ -46,4 +57,11 @@ def tilt_and_yaw(axis: np.ndarray, yaw: float) -> np.ndarray:
     return tilt_rotation(axis) @ yaw_rotation(yaw)
 
 
-__all__ = ["angles_of_axis", "axis_from_angles", "tilt_and_yaw", "tilt_rotation", "yaw_rotation"]
+__all__ = [
+    "angles_of_axis",
+    "axis_from_angles",
+    "cross",
+    "tilt_and_yaw",
+    "tilt_rotation",
+    "yaw_rotation",
+]

@@ -23,6 +23,7 @@ from dataclasses import dataclass
 
 import numpy as np
 import pinocchio as pin
+from numba import njit
 
 from robots.model import RobotModel
 
@@ -75,6 +76,7 @@ def chain_roots(model: RobotModel) -> dict[str, int]:
     return roots
 
 
+@njit(cache=True)
 def principal_axes(
     inertia: np.ndarray, forward_world: np.ndarray, up_world: np.ndarray
 ) -> tuple[np.ndarray, np.ndarray]:
@@ -82,25 +84,58 @@ def principal_axes(
     with z . up > 0; x the eigenvector of the other two most aligned with `forward_world`
     (x . forward > 0); y = z x x."""
     moments, vectors = np.linalg.eigh(inertia)  # ascending
-    z = vectors[:, 0] if vectors[:, 0] @ up_world >= 0 else -vectors[:, 0]
-    first, second = vectors[:, 1], vectors[:, 2]
+    z = vectors[:, 0].copy()
+    if z @ up_world < 0:
+        z = -z
+    first, second = vectors[:, 1].copy(), vectors[:, 2].copy()
     if abs(first @ forward_world) >= abs(second @ forward_world):
         x, x_moment, y_moment = first, moments[1], moments[2]
     else:
         x, x_moment, y_moment = second, moments[2], moments[1]
     if x @ forward_world < 0:
         x = -x
-    y = np.cross(z, x)
-    return np.column_stack([x, y, z]), np.array([x_moment, y_moment, moments[0]])
+    axes = np.empty((3, 3))
+    axes[:, 0] = x
+    axes[:, 1] = np.array(
+        [z[1] * x[2] - z[2] * x[1], z[2] * x[0] - z[0] * x[2], z[0] * x[1] - z[1] * x[0]]
+    )
+    axes[:, 2] = z
+    return axes, np.array([x_moment, y_moment, moments[0]])
 
 
+@njit(cache=True)
 def point_mass_inertia(
     mass: np.ndarray, position_world: np.ndarray, com_world: np.ndarray
 ) -> np.ndarray:
     """I_R [kg m^2] about `com_world` of point masses (k,) [kg] at (k, 3) [m]."""
-    d = position_world - com_world
-    squared = np.einsum("i,ij,ij->", mass, d, d)
-    return squared * np.eye(3) - np.einsum("i,ij,ik->jk", mass, d, d)
+    second_moment = np.zeros((3, 3))  # sum_i m_i d_i d_i^T
+    for i in range(len(mass)):
+        d = position_world[i] - com_world
+        second_moment += mass[i] * np.outer(d, d)
+    return np.trace(second_moment) * np.eye(3) - second_moment
+
+
+@njit(cache=True)
+def five_masses(
+    total_mass: float,
+    com_world: np.ndarray,
+    limbs_mass: np.ndarray,
+    limbs_position_world: np.ndarray,
+    forward_world: np.ndarray,
+    up_world: np.ndarray,
+) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+    """The five masses (torso first: the rest of the robot), positions, I_R, R_I and I_PA
+    from the four limb groups' masses (4,) [kg] and CoMs (4, 3) [m] and the system CoM."""
+    torso_mass = total_mass - limbs_mass.sum()
+    mass = np.empty(5)
+    position = np.empty((5, 3))
+    mass[0] = torso_mass
+    mass[1:] = limbs_mass
+    position[0] = (total_mass * com_world - limbs_mass @ limbs_position_world) / torso_mass
+    position[1:] = limbs_position_world
+    inertia = point_mass_inertia(mass, position, com_world)
+    axes, moments = principal_axes(inertia, forward_world, up_world)
+    return mass, position, inertia, axes, moments
 
 
 class FiveMassModel:
@@ -129,13 +164,10 @@ class FiveMassModel:
         limbs_mass = np.array([data.mass[j] for j in self.root_ids])
         # a subtree's CoM is in its joint's frame (pinocchio's data.com[j], j > 0)
         limbs_position = np.array([data.oMi[j].act(data.com[j]) for j in self.root_ids])
-        torso_mass = self.total_mass - limbs_mass.sum()
-        torso_position = (self.total_mass * com - limbs_mass @ limbs_position) / torso_mass
-        mass = np.concatenate([[torso_mass], limbs_mass])
-        position = np.vstack([torso_position, limbs_position])
-        inertia = point_mass_inertia(mass, position, com)
         base = data.oMf[self.base_frame].rotation
-        axes, moments = principal_axes(inertia, base[:, 0], base[:, 2])
+        mass, position, inertia, axes, moments = five_masses(
+            self.total_mass, com, limbs_mass, limbs_position, base[:, 0].copy(), base[:, 2].copy()
+        )
         return FiveMass(mass, position, com, inertia, axes, moments)
 
     def jacobians(self, q: np.ndarray) -> tuple[FiveMass, np.ndarray]:

@@ -26,6 +26,7 @@ lower limit plus a margin, with the CoM height freed, instead of a shift of the 
 from __future__ import annotations
 
 import numpy as np
+from numba import njit
 
 from robots.five_mass import FiveMassModel
 from robots.model import RobotModel
@@ -39,6 +40,7 @@ KNEE_MARGIN_RAD = 0.05  # a straight knee less this margin: away from the singul
 KNEE_WEIGHT = 1e3  # as the CoM task's
 
 
+@njit(cache=True)
 def inertia_axis_jacobian(
     mass: np.ndarray,
     position_world: np.ndarray,
@@ -47,24 +49,32 @@ def inertia_axis_jacobian(
     moments: np.ndarray,
 ) -> np.ndarray:
     """(3, nv) Jacobian of the principal z axis of the point masses' inertia about their CoM
-    (first-order perturbation of a symmetric eigenproblem). mass (k,), position_world (k, 3),
-    jacobians (k, 3, nv) of the positions, axes_world columns (x, y, z), moments (3,)."""
+    (first-order perturbation of a symmetric eigenproblem): de_z = sum_{j in x, y} e_j
+    (e_j^T dI e_z) / (lambda_z - lambda_j), where for j != z
+    e_j^T dI e_z = -sum_i m_i ((e_j . dd_i)(d_i . e_z) + (e_j . d_i)(e_z . dd_i)),
+    d_i = r_i - c, dd_i = (J_i - J_c) dv. mass (k,), position_world (k, 3), jacobians
+    (k, 3, nv) of the positions, axes_world columns (x, y, z), moments (3,)."""
+    k, _, nv = jacobians.shape
     total = mass.sum()
-    com = mass @ position_world / total
-    jacobian_com = np.einsum("i,ijk->jk", mass, jacobians) / total
-    d = position_world - com  # (k, 3)
-    jd = jacobians - jacobian_com[None]  # (k, 3, nv)
-    e_z = axes_world[:, 2]
-    d_z = d @ e_z  # (k,)
-    jd_z = np.einsum("j,ijk->ik", e_z, jd)  # (k, nv)
-    result = np.zeros((3, jacobians.shape[2]))
-    for j in (0, 1):
-        e_j = axes_world[:, j]
-        coupling = -(
-            np.einsum("i,i,ik->k", mass, d_z, np.einsum("j,ijk->ik", e_j, jd))
-            + np.einsum("i,i,ik->k", mass, d @ e_j, jd_z)
-        )
-        result += np.outer(e_j, coupling / (moments[2] - moments[j]))
+    com = np.zeros(3)
+    jacobian_com = np.zeros((3, nv))
+    for i in range(k):
+        com += mass[i] * position_world[i]
+        jacobian_com += mass[i] * jacobians[i]
+    com /= total
+    jacobian_com /= total
+    e_z = axes_world[:, 2].copy()
+    result = np.zeros((3, nv))
+    for j in range(2):
+        e_j = axes_world[:, j].copy()
+        coupling = np.zeros(nv)
+        for i in range(k):
+            d = position_world[i] - com
+            jd = jacobians[i] - jacobian_com
+            coupling -= mass[i] * ((e_j @ jd) * (d @ e_z) + (e_j @ d) * (e_z @ jd))
+        coupling /= moments[2] - moments[j]
+        for row in range(3):
+            result[row] += e_j[row] * coupling
     return result
 
 
