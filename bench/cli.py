@@ -27,6 +27,7 @@ from bench.limits import (
     MAX_PUSH_DV,
     MAX_PUSH_IMPULSE_NS,
     MAX_WALK_SPEED,
+    MAX_WALK_STEPS,
     MAX_WORKERS,
     NAME_RULE,
     SCALE_RANGE,
@@ -459,6 +460,39 @@ def build_parser() -> argparse.ArgumentParser:
         "episode ends as 'timeout'",
     )
     sweep.add_argument("--no-progress", action="store_true", help="no progress bar")
+
+    speed = commands.add_parser(
+        "speed",
+        help="Ficht & Behnke Table 1: the highest forward speed each controller walks at",
+    )
+    speed.add_argument(
+        "--controllers",
+        required=True,
+        type=_names("--controllers", "controller names or all"),
+        help="controller names (ablations included), or all",
+    )
+    speed.add_argument(
+        "--sims",
+        type=_simulator_names,
+        default=list(SIMULATORS),
+        help="mujoco, pybullet or all (default all)",
+    )
+    speed.add_argument("--out", required=True, help="directory for speed.parquet and speed.md")
+    speed.add_argument(
+        "--workers", type=_integer("--workers", 1, MAX_WORKERS), default=None, help="processes"
+    )
+    speed.add_argument(
+        "--steps",
+        type=_integer("--steps", 2, MAX_WALK_STEPS),
+        default=12,
+        help="steps of the gait command (default 12: 21 of direct_centroidal's own)",
+    )
+    speed.add_argument(
+        "--maximum",
+        type=_number("--maximum", 0.0, strict=True, maximum=MAX_WALK_SPEED, unit="m/s"),
+        default=0.8,
+        help="the ladder's top speed [m/s] (default 0.8)",
+    )
 
     report = commands.add_parser("report", help="build report.md and report.html from results")
     report.add_argument("results", help="a sweep's result directory")
@@ -893,6 +927,30 @@ def _sweep(args: argparse.Namespace) -> int:
     return 0
 
 
+def _speed(args: argparse.Namespace) -> int:
+    from bench.controllers import CONTROLLERS, controller_spec
+    from bench.speed_protocol import SpeedProtocol, run_speed_protocol
+    from reports.tables import speed_table
+
+    controllers = list(CONTROLLERS) if args.controllers == ["all"] else args.controllers
+    for name in controllers:
+        controller_spec(name)  # KeyError naming the known ones
+    sims = args.sims
+    protocol = SpeedProtocol(maximum=args.maximum, steps=args.steps)
+    out = Path(args.out)
+    try:
+        out.mkdir(parents=True, exist_ok=True)
+    except OSError as exc:
+        raise _write_failed("--out", out, exc) from None
+    trials = run_speed_protocol(controllers, sims, protocol, workers=args.workers)
+    table = speed_table(trials)
+    trials.to_parquet(out / "speed.parquet")
+    (out / "speed.md").write_text(table.to_markdown(index=False, floatfmt=".4g") + "\n")
+    with _pd_options():
+        print(table.to_string(index=False))
+    return 0
+
+
 def _report(args: argparse.Namespace) -> int:
     from reports.build import build_report
 
@@ -925,6 +983,7 @@ def main(argv: Sequence[str] | None = None) -> int:
             "compare": _compare,
             "sweep": _sweep,
             "report": _report,
+            "speed": _speed,
         }
         status = commands[args.command](args)
         sys.stdout.flush()  # a closed pipe (`| head -1`) shows here, not at interpreter exit

@@ -48,6 +48,8 @@ MAX_WORKERS = 256
 # Forward walking speed of a gait command [m/s], either way: at 1 m/s and 0.9 s per step a step
 # is 0.9 m, past the reach of the humanoid's 0.72 m legs (faster asks nothing new).
 MAX_WALK_SPEED = 1.0
+# Steps of a walk's gait command: 200 steps of 0.9 s is 180 s, within MAX_EPISODE_SECONDS.
+MAX_WALK_STEPS = 200
 # An episode's wall-clock budget (`SweepSpec.wall_budget_s`): at most a day of base time and
 # 1000 wall-clock seconds per simulated second (a controller 1000 times slower than real time).
 TIMEOUT_BASE_MAX_S = 86_400.0

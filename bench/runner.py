@@ -64,6 +64,7 @@ class EpisodeSpec:
     friction: float | None = None  # None: the scenario's
     whole_body: str = DEFAULT_WHOLE_BODY  # the whole-body layer (`wholebody.base`)
     speed: float | None = None  # [m/s] forward speed of walk / walk_push (None: the default)
+    steps: int | None = None  # steps of walk / walk_push (None: their 10)
 
 
 @dataclass
@@ -248,6 +249,7 @@ def run_episode(spec: EpisodeSpec, progress: MutableSequence[float] | None = Non
             spec.push_step,
             spec.friction,
             spec.speed,
+            spec.steps,
         )
         scene = scenario.scene
         summary.update(friction=scene.friction, mass_kg=robot.total_mass)

@@ -28,6 +28,7 @@ from dataclasses import dataclass, replace
 
 import numpy as np
 
+from bench.limits import MAX_WALK_STEPS
 from centroidal.rotations import heading_quaternion
 from robots.gait import GAIT_STEPS, GaitCommand
 from robots.model import RobotModel
@@ -257,12 +258,14 @@ def make_scenario(
     push_step: int | None = None,
     friction: float | None = None,
     speed: float | None = None,
+    steps: int | None = None,
 ) -> Scenario:
     """Build scenario `name` for `model`. Raises KeyError for an unknown name (listing the known
     ones) and ValueError for bad parameters. `push_time` [s] applies to `stand_push`,
     `push_step` (the single-support phase pushed in the middle, from 1) to `walk_push`;
     `friction` replaces the scene's Coulomb coefficient; `speed` [m/s] is the forward speed of
-    `walk` and `walk_push` (`GaitCommand.speed`; None: their default step length)."""
+    `walk` and `walk_push` (`GaitCommand.speed`; None: their default step length) and `steps`
+    their number of steps (`GaitCommand.steps`; None: 10)."""
     if name not in SCENARIOS:
         raise KeyError(f"unknown scenario {name!r}; choose one of: {', '.join(SCENARIOS)}")
     spec = SCENARIOS[name]
@@ -299,6 +302,16 @@ def make_scenario(
         if not np.isfinite(speed):
             raise ValueError(f"speed must be a finite number of m/s, got {speed}")
         kwargs["gait"] = GaitCommand(speed=float(speed))
+    if steps is not None:
+        if name not in WALKS_WITH_SPEED:
+            raise ValueError(f"steps applies to {', '.join(WALKS_WITH_SPEED)}, not to {name!r}")
+        if (
+            isinstance(steps, bool)
+            or not isinstance(steps, int)
+            or not 2 <= steps <= MAX_WALK_STEPS
+        ):
+            raise ValueError(f"steps must be an integer in [2, {MAX_WALK_STEPS}], got {steps!r}")
+        kwargs["gait"] = replace(kwargs.get("gait", GaitCommand()), steps=steps)
     scenario = spec.build(model, **kwargs)
     if friction is not None:
         if not (np.isfinite(friction) and friction > 0):

@@ -199,7 +199,7 @@ class SweepSpec:
 # EpisodeSpec fields added after results were first published, with their defaults: left out
 # of an episode's id while at the default, so that earlier result directories keep their ids
 # (a resume of them runs nothing twice)
-LATER_FIELDS = {"whole_body": DEFAULT_WHOLE_BODY, "speed": None}
+LATER_FIELDS = {"whole_body": DEFAULT_WHOLE_BODY, "speed": None, "steps": None}
 
 
 def _episode(controller: str, run: EpisodeSpec, keep_trace: bool, **labels) -> Episode:

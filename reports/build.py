@@ -69,6 +69,19 @@ def survival_time_s(record: dict | None) -> float:
     return float(value) if isinstance(value, int | float) else 3.0
 
 
+def _speed_trials(results: Path, notes: list[str]) -> pd.DataFrame | None:
+    """The maximum-speed protocol's walks (`speed.parquet`, written by `centrobench speed`)
+    if the results directory has them; an unreadable file is a note, not an error."""
+    path = results / "speed.parquet"
+    if not path.exists():
+        return None
+    try:
+        return pq.read_table(path).to_pandas()
+    except Exception as exc:
+        notes.append(f"speed.parquet: unreadable ({' '.join(str(exc).split())[:120]})")
+        return None
+
+
 def header(episodes: pd.DataFrame, record: dict | None) -> dict[str, str]:
     """Provenance: centrobench version, git commits, date, CPUs, package versions, spec."""
     versions: dict[str, set[str]] = {}
@@ -192,6 +205,19 @@ def build_report(
     out.mkdir(parents=True, exist_ok=True)
     info = header(episodes, record)
     parts = sections(episodes, benchmark, survival_time_s(record))
+    speed = _speed_trials(Path(results), notes)
+    if speed is not None:
+        parts.append(
+            (
+                "Maximum walking speed (Ficht & Behnke Table 1)",
+                "Per controller and simulator (`centrobench speed`): the highest commanded "
+                "forward speed v_ref it walked a walk at without falling (a ladder of 0.05 m/s "
+                "refined by bisection to 0.01 m/s), the mean speed v walked there over the "
+                "steady steps, and eq. 18's e_c [m s], e_z [m s], e_v [m/s] against its own "
+                "plan there; walks: how many the search took.",
+                tables.speed_table(speed),
+            )
+        )
     figures: list[tuple[str, Path]] = []
     rates = tables.survival_rates(episodes, "standing")
     if len(rates):

@@ -10,6 +10,8 @@ the median over them (the mean for the projection errors, which are means alread
 
 from __future__ import annotations
 
+import math
+
 import numpy as np
 import pandas as pd
 
@@ -182,3 +184,29 @@ def benchmark_table(benchmark: dict) -> pd.DataFrame:
             }
         )
     return pd.DataFrame(rows)
+
+
+def speed_table(trials: pd.DataFrame) -> pd.DataFrame:
+    """Table 1's shape per controller x simulator: the highest commanded speed walked [m/s]
+    (NaN: none), the mean speed walked there over the steady steps [m/s], e_c [m s], e_z
+    [m s], e_v [m/s] of eq. 18 there, and how many walks the search took."""
+    columns = [*KEYS, "v_ref_mps", "v_mps", "e_c", "e_z", "e_v", "walks"]
+    if trials.empty:
+        return pd.DataFrame(columns=columns)
+    result = []
+    for (controller, sim), group in trials.groupby(KEYS, sort=True):
+        walked = group[group["status"] == "ok"]
+        row = {"controller": controller, "sim": sim, "walks": len(group)}
+        if walked.empty:
+            row.update(v_ref_mps=math.nan, v_mps=math.nan, e_c=math.nan, e_z=math.nan, e_v=math.nan)
+        else:
+            best = walked.loc[walked["speed_command_mps"].idxmax()]
+            row.update(
+                v_ref_mps=best["speed_command_mps"],
+                v_mps=best.get("speed_walked_mps"),
+                e_c=best.get("e_com"),
+                e_z=best.get("e_zmp"),
+                e_v=best.get("e_velocity"),
+            )
+        result.append(row)
+    return pd.DataFrame(result, columns=columns)

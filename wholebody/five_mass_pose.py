@@ -36,8 +36,9 @@ from wholebody.ik import IKWeights, WholeBodyIK
 from wholebody.ik_only import IkLayer
 
 INERTIA_AXIS_WEIGHT = 1e2  # as the base orientation task's (errors in rad)
-KNEE_MARGIN_RAD = 0.05  # a straight knee less this margin: away from the singularity
+KNEE_MARGIN_RAD = 0.1  # a straight knee less this margin (5.7 deg): away from the singularity
 KNEE_WEIGHT = 1e3  # as the CoM task's
+KNEE_TIME_CONSTANT_S = 0.3  # [s] how fast a knee straightens (not in one period: it jumps)
 
 
 @njit(cache=True)
@@ -113,6 +114,7 @@ class FiveMassIK(WholeBodyIK):
         self.five = FiveMassModel(model)
         self.base_orientation_weights[:2] = 0.0  # roll and pitch: free
         self.straight_leg = straight_leg
+        self.knee_rate = min(1.0, dt / KNEE_TIME_CONSTANT_S)
         knees = knee_indices(model)
         limbs = model.robot.limb_names
         self.knees = [(limbs.index(name), index) for name, index in knees.items()]
@@ -142,7 +144,8 @@ class FiveMassIK(WholeBodyIK):
         for _, j in supporting:
             self._jacobian[n] = 0.0
             self._jacobian[n, 6 + j] = 1.0
-            self._error[n] = self.lower[j] + KNEE_MARGIN_RAD - q[7 + j]
+            # approached with the time constant KNEE_TIME_CONSTANT_S, not in one period
+            self._error[n] = (self.lower[j] + KNEE_MARGIN_RAD - q[7 + j]) * self.knee_rate
             self._weight[n] = KNEE_WEIGHT
             n += 1
         return n

@@ -83,10 +83,11 @@ def test_the_full_method_with_inertia_control_stands():
     assert _run("direct_centroidal", "mujoco", "stand", duration=2.0).summary["status"] == "ok"
 
 
-@pytest.mark.xfail(
-    strict=True,
-    reason="straight-support-leg task: the walk falls at 3.6 s in MuJoCo (issue 17 note)",
-)
-def test_the_straight_leg_constraint_walks():
-    summary = _run("direct_centroidal/no_inertia", "mujoco", "walk").summary
+@pytest.mark.parametrize("sim", SIMS)
+def test_with_the_straight_support_leg_constraint_it_walks_too(sim):
+    """Table 1's last row (every component but inertia control): the support knees held at
+    5.7 deg from straight, approached with a 0.3 s time constant, the CoM height free; it walks
+    `walk` (measured: 1.9 / 10.8 cm from the goal in MuJoCo / PyBullet)."""
+    summary = _run("direct_centroidal/no_inertia", sim, "walk").summary
     assert summary["status"] == "ok"
+    assert summary["final_position_error_m"] < 0.15

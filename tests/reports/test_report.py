@@ -274,3 +274,70 @@ def test_report_files_hold_every_table(results, tmp_path: Path):
     assert "abc123" in markdown
     assert "test CPU" in markdown
     assert "mujoco 4.0.0" in markdown
+
+
+def test_the_maximum_speed_table_joins_the_report_when_its_walks_are_there(results, tmp_path):
+    """`centrobench speed --out RESULTS` leaves speed.parquet; the report shows Table 1's
+    shape from it: the highest speed walked and eq. 18's errors there, or none."""
+    import shutil
+
+    root, _ = results
+    copy = tmp_path / "results"
+    shutil.copytree(root, copy)
+    pd.DataFrame(
+        [
+            {
+                "controller": "a+x",
+                "sim": "mujoco",
+                "speed_command_mps": 0.05,
+                "status": "ok",
+                "speed_walked_mps": 0.051,
+                "e_com": 0.4,
+                "e_zmp": 0.8,
+                "e_velocity": 3.0,
+            },
+            {
+                "controller": "a+x",
+                "sim": "mujoco",
+                "speed_command_mps": 0.1,
+                "status": "ok",
+                "speed_walked_mps": 0.097,
+                "e_com": 0.25,
+                "e_zmp": 0.75,
+                "e_velocity": 1.5,
+            },
+            {
+                "controller": "a+x",
+                "sim": "mujoco",
+                "speed_command_mps": 0.15,
+                "status": "fell",
+                "speed_walked_mps": None,
+                "e_com": 9.0,
+                "e_zmp": 9.0,
+                "e_velocity": 9.0,
+            },
+            {
+                "controller": "b+y",
+                "sim": "mujoco",
+                "speed_command_mps": 0.05,
+                "status": "fell",
+                "speed_walked_mps": None,
+                "e_com": 9.0,
+                "e_zmp": 9.0,
+                "e_velocity": 9.0,
+            },
+        ]
+    ).to_parquet(copy / "speed.parquet")
+    build_report(copy, tmp_path / "report")
+    markdown = (tmp_path / "report" / "report.md").read_text()
+    assert "Maximum walking speed (Ficht & Behnke Table 1)" in markdown
+    section = markdown.split("Maximum walking speed")[1]
+    rows = {
+        line.split("|")[1].strip(): [cell.strip() for cell in line.split("|")[2:-1]]
+        for line in section.splitlines()
+        if line.startswith(("| a+x", "| b+y"))
+    }
+    # sim, v_ref, v, e_c, e_z, e_v, walks: at the highest speed walked, not the one that fell
+    assert rows["a+x"] == ["mujoco", "0.1", "0.097", "0.25", "0.75", "1.5", "3"]
+    assert rows["b+y"][1:6] == ["–"] * 5  # walked at no speed: the report's empty cell
+    assert rows["b+y"][6] == "1"

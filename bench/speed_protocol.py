@@ -1,0 +1,175 @@
+"""Ficht & Behnke's Table 1 protocol: the highest commanded forward speed at which a controller
+walks without falling, and its walking quality there (eq. 18).
+
+Per controller and simulator, `walk` with a gait command of `steps` steps at speed v: a
+ladder of speeds (`start`, `start + increment`, ... up to `maximum`) is climbed until a walk
+falls (or ends in an error), then the interval between the highest speed walked and the
+lowest that fell is bisected on a grid of `resolution` (0.01 m/s, the issue's) until it is one
+step wide. Outcomes are taken as monotonic in the speed, as a ladder and a bisection must. The
+pairs are searched side by side: each round runs the next speed of every unfinished pair in
+the local executor's worker processes.
+
+`steps` = 12 gives the gait-phase controllers (`direct_centroidal`, f_g = 1.98 Hz) 21 steps
+of their own (the paper's "20 steps") and the fixed-schedule ones 12 steps of 0.9 s.
+"""
+
+from __future__ import annotations
+
+import sys
+from collections.abc import Callable, Iterable
+from dataclasses import dataclass
+from typing import Any
+
+import pandas as pd
+
+
+@dataclass(frozen=True)
+class SpeedProtocol:
+    start: float = 0.05  # [m/s]
+    increment: float = 0.05  # [m/s]
+    maximum: float = 0.8  # [m/s]
+    resolution: float = 0.01  # [m/s]
+    steps: int = 12
+
+    def __post_init__(self) -> None:
+        if not 0 < self.resolution <= self.increment:
+            raise ValueError("resolution must be positive and at most the increment")
+        if not 0 < self.start <= self.maximum:
+            raise ValueError("start must be positive and at most the maximum")
+
+
+class SpeedSearch:
+    """The ladder-then-bisection search of one controller in one simulator: `next_speed()` is
+    the speed to walk next [m/s] (None: the search is done), `record(speed, walked)` its
+    outcome; `best` is the highest speed walked (None: none)."""
+
+    def __init__(self, protocol: SpeedProtocol) -> None:
+        self.protocol = protocol
+        self.best: float | None = None
+        self.failed: float | None = None  # the lowest speed that fell, above `best`
+        self.tried: list[tuple[float, bool]] = []
+
+    def _grid(self, speed: float) -> float:
+        return round(round(speed / self.protocol.resolution) * self.protocol.resolution, 10)
+
+    def next_speed(self) -> float | None:
+        p = self.protocol
+        if self.failed is None:  # climbing the ladder
+            speed = p.start if self.best is None else self.best + p.increment
+            return self._grid(speed) if speed <= p.maximum + 1e-9 else None
+        low = 0.0 if self.best is None else self.best
+        if self.failed - low <= p.resolution + 1e-9:
+            return None
+        middle = self._grid((low + self.failed) / 2)
+        if not low < middle < self.failed:
+            middle = self._grid(low + p.resolution)
+        return middle if low < middle < self.failed else None
+
+    def record(self, speed: float, walked: bool) -> None:
+        self.tried.append((speed, walked))
+        if walked:
+            self.best = speed if self.best is None else max(self.best, speed)
+        else:
+            self.failed = speed if self.failed is None else min(self.failed, speed)
+
+
+def speed_episode(item: tuple[str, str, float, int]) -> dict[str, Any]:
+    """Walk `walk` at the item's (controller, sim, speed [m/s], steps); the row of the
+    outcome. Runs in a worker process (module level: picklable)."""
+    from bench.controllers import controller_spec
+    from bench.metrics import walking_quality
+    from bench.runner import EpisodeSpec, run_episode
+
+    controller, sim, speed, steps = item
+    spec = controller_spec(controller)
+    result = run_episode(
+        EpisodeSpec(
+            spec.planner,
+            spec.stabilizer,
+            sim,
+            "walk",
+            estimator=spec.episode_estimator,
+            whole_body=spec.whole_body,
+            speed=speed,
+            steps=steps,
+        )
+    )
+    summary = result.summary
+    return {
+        "controller": controller,
+        "sim": sim,
+        "speed_command_mps": speed,
+        "status": summary["status"],
+        "error": summary["error"],
+        "fall_time": summary["fall_time"],
+        "speed_walked_mps": steady_speed(result.footsteps),
+        "steps_taken": summary["steps_taken"],
+        **walking_quality(result.trace),
+    }
+
+
+def steady_speed(footsteps: pd.DataFrame | None) -> float | None:
+    """The mean forward speed walked [m/s] over the steady steps: the advance of one foot's
+    soles per second between its first and last touchdowns once the first two and the last two
+    touchdowns are left out (the half first and last steps); None with too few touchdowns."""
+    if footsteps is None or len(footsteps) < 7:
+        return None
+    middle = footsteps.iloc[2:-2]
+    same = middle[middle["limb"] == middle["limb"].iloc[0]]
+    if len(same) < 2:
+        return None
+    duration = same["touchdown_time_s"].iloc[-1] - same["touchdown_time_s"].iloc[0]
+    return float((same["x_m"].iloc[-1] - same["x_m"].iloc[0]) / duration) if duration > 0 else None
+
+
+def run_speed_protocol(
+    controllers: Iterable[str],
+    sims: Iterable[str],
+    protocol: SpeedProtocol | None = None,
+    workers: int | None = None,
+    work: Callable[[tuple], dict[str, Any]] = speed_episode,
+    budget_s: float = 600.0,
+    progress: bool = True,
+) -> pd.DataFrame:
+    """Every trial's row (controller, sim, speed_command_mps, status, ...), in the order run."""
+    from bench.executors import make_executor
+
+    protocol = protocol or SpeedProtocol()
+    searches = {(c, s): SpeedSearch(protocol) for c in controllers for s in sims}
+    rows: list[dict[str, Any]] = []
+    executor = make_executor("local", workers)
+    try:
+        for round_number in range(1, 10_000):
+            batch = []
+            for (controller, sim), search in searches.items():
+                speed = search.next_speed()
+                if speed is not None:
+                    batch.append((controller, sim, speed, protocol.steps))
+            if not batch:
+                break
+            if progress:
+                print(f"round {round_number}: {len(batch)} walks", file=sys.stderr, flush=True)
+            for item, result in executor.map_unordered(work, batch, budget=lambda _: budget_s):
+                controller, sim, speed, _ = item
+                if isinstance(result, BaseException):
+                    result = {
+                        "controller": controller,
+                        "sim": sim,
+                        "speed_command_mps": speed,
+                        "status": "error",
+                        "error": f"{type(result).__name__}: {result}",
+                    }
+                rows.append(result)
+                searches[controller, sim].record(speed, result["status"] == "ok")
+    finally:
+        executor.close()
+    return pd.DataFrame(rows)
+
+
+__all__ = [
+    "SpeedProtocol",
+    "SpeedSearch",
+    "run_speed_protocol",
+    "speed_episode",
+    "steady_speed",
+]

@@ -1,0 +1,96 @@
+"""Ficht & Behnke's Table 1 protocol: the ladder-then-bisection search, the rounds run in
+worker processes, the table, and one real walk at a commanded speed."""
+
+import math
+
+import pandas as pd
+import pytest
+
+from bench.speed_protocol import (
+    SpeedProtocol,
+    SpeedSearch,
+    run_speed_protocol,
+    speed_episode,
+)
+from reports.tables import speed_table
+
+THRESHOLDS = {"steady": 0.37, "clumsy": 0.0, "fast": 5.0}
+
+
+def _search(threshold: float, protocol: SpeedProtocol) -> SpeedSearch:
+    search = SpeedSearch(protocol)
+    while (speed := search.next_speed()) is not None:
+        search.record(speed, speed <= threshold + 1e-12)
+    return search
+
+
+@pytest.mark.parametrize("threshold", [0.05, 0.12, 0.37, 0.41, 0.79])
+def test_the_search_finds_the_highest_speed_walked_to_the_resolution(threshold):
+    protocol = SpeedProtocol()
+    search = _search(threshold, protocol)
+    assert search.best == pytest.approx(threshold)
+    assert search.failed == pytest.approx(threshold + protocol.resolution)
+    # the ladder up to the first fall, then at most log2(increment / resolution) + 1 halvings
+    assert len(search.tried) <= math.ceil(threshold / 0.05) + 1 + 3
+
+
+def test_the_search_ends_at_the_ladders_top_or_bottom():
+    protocol = SpeedProtocol(maximum=0.3)
+    assert _search(5.0, protocol).best == pytest.approx(0.3)
+    none = _search(0.0, protocol)
+    assert none.best is None
+    assert [speed for speed, _ in none.tried] == [0.05, 0.02, 0.01]  # 0.025 is on no grid
+
+
+def fake_walk(item):
+    """A walk that succeeds at speeds up to the controller's threshold (module level: it
+    runs in a worker process)."""
+    controller, sim, speed, _ = item
+    ok = speed <= THRESHOLDS[controller] + 1e-12
+    return {
+        "controller": controller,
+        "sim": sim,
+        "speed_command_mps": speed,
+        "status": "ok" if ok else "fell",
+        "e_com": speed / 10,
+        "e_zmp": speed / 5,
+        "e_velocity": speed,
+        "speed_walked_mps": speed * 0.9,
+    }
+
+
+def test_rounds_in_workers_give_the_table_in_the_papers_shape():
+    protocol = SpeedProtocol(maximum=0.6)
+    trials = run_speed_protocol(
+        list(THRESHOLDS), ["mujoco"], protocol, workers=2, work=fake_walk, progress=False
+    )
+    table = speed_table(trials).set_index("controller")
+    assert table.loc["steady", "v_ref_mps"] == pytest.approx(0.37)
+    assert table.loc["steady", "e_c"] == pytest.approx(0.037)
+    assert table.loc["steady", "v_mps"] == pytest.approx(0.333)
+    assert table.loc["fast", "v_ref_mps"] == pytest.approx(0.6)
+    assert math.isnan(table.loc["clumsy", "v_ref_mps"])
+    assert table["walks"].sum() == len(trials)
+    assert speed_table(pd.DataFrame()).empty
+
+
+@pytest.mark.parametrize(
+    "speed",
+    [
+        0.1,
+        pytest.param(
+            0.15,
+            marks=pytest.mark.xfail(
+                strict=True, reason="walks 0.162 m/s, 7.7 % fast (issue 17 note)"
+            ),
+        ),
+    ],
+)
+def test_a_walk_at_a_commanded_speed_reaches_it(speed):
+    """direct_centroidal/bent_no_inertia for 12 commanded steps (21 of its own): walked, over
+    the steady steps at the commanded speed within 5 % (measured +4.0 % at 0.1 m/s), with
+    eq. 18's errors."""
+    row = speed_episode(("direct_centroidal/bent_no_inertia", "mujoco", speed, 12))
+    assert row["status"] == "ok"
+    assert row["e_com"] > 0
+    assert row["speed_walked_mps"] == pytest.approx(speed, rel=0.05)
