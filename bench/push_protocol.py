@@ -9,13 +9,17 @@ paper's 1.2 ... 2.8 N s on its robot of about 6.6 kg are 0.18 ... 0.42 m/s); eac
 records the impulse J = m dv [N s] for the robot at hand (its mass at the episode's scale).
 Every controller, simulator and level gets the same directions.
 
-Standing pushes start at 1.5 s: every registered controller has settled by then in both
-simulators (its ground-truth CoM speed below 1 mm/s over the last 0.1 s before the push;
-`tests/bench/test_sweep_spec.py` asserts it). With IK joint targets only (the `ik` layer, the
-default since the paper's configuration became the main job's entry) the servos sag under
-the load and the robot sways at 2-4 mm/s until about 1 s (measured, `preview_control` +
-`centroidal_feedback` in MuJoCo: 3.7 mm/s at 0.2 s, 0.55 at 1.0 s, 0.16 at 1.5 s); with
-feed-forward torques it had settled by 0.1 s, and pushes started at 0.2 s.
+Standing pushes start at 1.5 s: every registered controller but Ficht & Behnke's has settled by
+then in both simulators (its ground-truth CoM speed below 1 mm/s over the last 0.1 s before the
+push; `tests/bench/test_sweep_spec.py` asserts it, and names the measured exceptions). Walking
+pushes come at a time of the `walk` scenario's fixed schedule (the middle of its
+`walking_push_step`-th single support): a controller that chooses its own step times
+(`direct_centroidal`) is pushed at the same time, in whatever phase of its own gait that is.
+With IK joint targets only (the `ik` layer, the default since the paper's configuration became
+the main job's entry) the servos sag under the load and the robot sways at 2-4 mm/s until about
+1 s (measured, `preview_control` + `centroidal_feedback` in MuJoCo: 3.7 mm/s at 0.2 s, 0.55 at
+1.0 s, 0.16 at 1.5 s); with feed-forward torques it had settled by 0.1 s, and pushes started at
+0.2 s.
 """
 
 from __future__ import annotations

@@ -66,6 +66,36 @@ def level_label(dv: float, impulse: float) -> str:
 JUDGED = ("ok", "fell")
 
 
+PAPER_LOOP_US = {"direct_centroidal": 143.0}
+"""The papers' own per-period times [µs] of their whole control loop, by controller name
+prefix: Ficht & Behnke Sec. 4, "a single passthrough of the whole control loop with computing
+joint targets took on average 143 µs" (on the robot's computer, at 100 Hz)."""
+
+
+def paper_latency_table(episodes: pd.DataFrame) -> pd.DataFrame:
+    """Per controller x simulator with a paper figure (`PAPER_LOOP_US`), from the walks: the
+    median control time per period [µs] (estimator, planner, stabilizer and whole-body layer:
+    the paper's "whole control loop" without the robot's I/O), the paper's, and their ratio."""
+    columns = [*KEYS, "control median µs", "paper µs", "ratio"]
+    rows = walks(episodes)
+    result = []
+    for (controller, sim), group in rows.groupby(KEYS, sort=True):
+        paper = next((v for k, v in PAPER_LOOP_US.items() if controller.startswith(k)), None)
+        if paper is None:
+            continue
+        measured = float(group["lat_control_total_median_us"].median())
+        result.append(
+            {
+                "controller": controller,
+                "sim": sim,
+                "control median µs": measured,
+                "paper µs": paper,
+                "ratio": measured / paper,
+            }
+        )
+    return pd.DataFrame(result, columns=columns)
+
+
 def survival_table(episodes: pd.DataFrame, phase: str = "standing") -> pd.DataFrame:
     """Ficht & Behnke Table 2: rows controller x simulator, a column per level (dv, and the
     impulse in N s for this robot), cells "survived/pushes" over the episodes that ended "ok"

@@ -341,3 +341,45 @@ def test_the_maximum_speed_table_joins_the_report_when_its_walks_are_there(resul
     assert rows["a+x"] == ["mujoco", "0.1", "0.097", "0.25", "0.75", "1.5", "3"]
     assert rows["b+y"][1:6] == ["–"] * 5  # walked at no speed: the report's empty cell
     assert rows["b+y"][6] == "1"
+
+
+def test_latency_against_the_papers_figures_for_the_controllers_that_have_one():
+    """Ficht & Behnke's 143 µs for its whole loop: our control stages' median per period
+    against it, for every direct_centroidal variant, and no row for the others."""
+    episodes = pd.DataFrame(
+        [
+            {
+                "controller": "direct_centroidal",
+                "sim": "mujoco",
+                "scenario": "walk",
+                "push_phase": None,
+                "lat_control_total_median_us": 286.0,
+            },
+            {
+                "controller": "direct_centroidal/no_inertia",
+                "sim": "pybullet",
+                "scenario": "walk",
+                "push_phase": None,
+                "lat_control_total_median_us": 429.0,
+            },
+            {
+                "controller": "a+x",
+                "sim": "mujoco",
+                "scenario": "walk",
+                "push_phase": None,
+                "lat_control_total_median_us": 100.0,
+            },
+            {
+                "controller": "direct_centroidal",
+                "sim": "mujoco",
+                "scenario": "stand_push",
+                "push_phase": "standing",
+                "lat_control_total_median_us": 999.0,
+            },
+        ]
+    )
+    table = tables.paper_latency_table(episodes).set_index("controller")
+    assert list(table.index) == ["direct_centroidal", "direct_centroidal/no_inertia"]
+    assert table.loc["direct_centroidal", "ratio"] == pytest.approx(2.0)
+    assert table.loc["direct_centroidal/no_inertia", "ratio"] == pytest.approx(3.0)
+    assert (table["paper µs"] == 143.0).all()
