@@ -51,7 +51,7 @@ from centroidal.lipm import (
     step_primitive,
     timing_gain,
 )
-from centroidal.rotations import from_matrix, heading_quaternion
+from centroidal.rotations import from_matrix, heading_quaternion, yaw_of
 from centroidal.tilt import tilt_and_yaw, yaw_rotation
 from planners.base import PlannerSpec, register
 from robots.five_mass import FiveMassModel
@@ -86,7 +86,6 @@ class FiveMassGaitPlanner:
 
     # ---- set-up -----------------------------------------------------------------------------
     def reset(self, robot: RobotModel, scenario: Scenario, state: RobotState) -> None:
-        self.robot = robot
         description = robot.robot
         limbs = description.limbs
         self.limb_index = {limb.name: k for k, limb in enumerate(limbs)}
@@ -96,9 +95,7 @@ class FiveMassGaitPlanner:
         self.feet = {
             name: _Foothold(
                 self.start_position[self.limb_index[name]].copy(),
-                math.atan2(
-                    poses[self.limb_index[name]][1][1, 0], poses[self.limb_index[name]][1][0, 0]
-                ),
+                yaw_of(self.start_orientation[self.limb_index[name]]),
             )
             for name in ("left_foot", "right_foot")
         }
@@ -115,7 +112,7 @@ class FiveMassGaitPlanner:
         self.step_width = float(np.linalg.norm((left - right)[:2]))
         # eq. 5's tilt is the feet-to-CoM vector; our standing pose's principal axis leans by
         # a constant angle from it (the torso's mass sits behind the legs'), kept as the
-        # neutral: `neutral_tilt` (the adaptation is documented in the README)
+        # neutral (`_neutral_offset`; the adaptation is listed in the README)
         five = FiveMassModel(robot).evaluate(robot.configuration(state))
         middle = (left + right) / 2
         self.neutral = _neutral_offset(five.axes_world, com - middle)
@@ -134,9 +131,7 @@ class FiveMassGaitPlanner:
         self.next_nominal: _Foothold | None = None
         self.step_start_time = 0.0
         gait = scenario.gait
-        self.walks = gait is not None
-        self.eos_reference = np.zeros(2)
-        if not self.walks:
+        if gait is None:  # no walk: stand
             self.start_time = math.inf
             return
         scale = description.scale
@@ -214,7 +209,6 @@ class FiveMassGaitPlanner:
             self.omega,
             remaining,
         )[0]
-        self.eos_reference = eos_ref
         rotation = yaw_rotation(self.feet[self.support].yaw)[:2, :2]
         error_path = rotation.T @ (eos - eos_ref)  # (forward, left) in the support's frame
         swing_side = -1.0 if self.support == "left_foot" else 1.0  # +y when the left swings

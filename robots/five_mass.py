@@ -52,10 +52,6 @@ class FiveMass:
     axes_world: np.ndarray
     moments: np.ndarray
 
-    @property
-    def leg_mass(self) -> float:
-        return float(self.mass[3] + self.mass[4])
-
 
 def chain_roots(model: RobotModel) -> dict[str, int]:
     """Per limb group, the pinocchio joint id where the limb's chain leaves the base link (the

@@ -24,7 +24,8 @@ principal z axis from its reference (projected angles: toward +x about the y mom
 (eq. 14); the leaky integral x~_i of eq. 9 holds the set tilt theta_set = x~_i m h / I (eq. 15),
 the complementary rotation R_c, and R_I^set = R_c R_I^ref (eq. 12).
 
-The ablation modes of the paper's Table 1 are `FeedbackOptions`.
+A state without a ZMP (an estimator with force sensors and no loaded limb gives NaN) drops the
+ZMP term for that period. The ablation modes of the paper's Table 1 are `FeedbackOptions`.
 """
 
 from __future__ import annotations
@@ -84,7 +85,6 @@ class DirectCentroidalStabilizer:
         self.moments = five.moments  # I_PA in the standing pose (Sec. 3.1: kept constant)
         self.x_i = np.zeros(2)
         self.x_aug_i = np.zeros(2)
-        self.omega: float | None = None
 
     def stabilize(self, t: float, plan: CentroidalPlan, state: RobotState) -> WholeBodyTargets:
         start = time.perf_counter_ns()
