@@ -25,10 +25,10 @@ the IMU and the joint encoders only, no force sensors.
   Riccati equation (scipy).
 - ZMP (eq. 7): p = x^ - z^ / g x^'', with z^ the CoM height above the support sole.
 - A second filter of the same form on the flywheel angle, measuring the angles only, gives
-  their rates: the projected tilt angles (`centroidal.tilt`) of the principal z axis of
-  inertia less those of the line from the feet's midpoint to the CoM (the pendulum of eq. 5's
-  neutral tilt: "the torque of a flywheel attached to a pendulum is zero [when] it does not
-  rotate with respect to it").
+  their rates and accelerations: the projected tilt angles (`centroidal.tilt`) of the
+  principal z axis of inertia less those of the line from the feet's midpoint to the CoM (the
+  pendulum of eq. 5's neutral tilt: "the torque of a flywheel attached to a pendulum is zero
+  [when] it does not rotate with respect to it").
 
 The sensors' contact flags and wrenches are passed through to the state for the runner's
 record (footsteps taken, measured wrenches); nothing here reads them.
@@ -209,6 +209,7 @@ class FiveMassKalmanEstimator(EstimatorBase):
             com_acceleration_world=np.array([state[2, 0], state[2, 1], 0.0]),
             inertia_tilt=tilt[0].copy(),
             inertia_tilt_rate=tilt[1].copy(),
+            inertia_tilt_acceleration=tilt[2].copy(),
         )
 
 

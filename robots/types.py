@@ -70,6 +70,8 @@ class RobotState:
     from the feet's midpoint to the CoM (Ficht & Behnke eq. 5); None from other estimators."""
     inertia_tilt_rate: np.ndarray | None = None
     """(2,) [rad/s] their rates."""
+    inertia_tilt_acceleration: np.ndarray | None = None
+    """(2,) [rad/s^2] their accelerations (the tilt filter's third state)."""
 
     @staticmethod
     def at_rest(base_position_world, base_orientation_world, joint_position) -> RobotState:

@@ -24,6 +24,16 @@ principal z axis from its reference (projected angles: toward +x about the y mom
 (eq. 14); the leaky integral x~_i of eq. 9 holds the set tilt theta_set = x~_i m h / I (eq. 15),
 the complementary rotation R_c, and R_I^set = R_c R_I^ref (eq. 12).
 
+The ZMP in p~ (`flywheel_zmp`, ours): eq. 13's p is the ZMP, x'' = omega^2 (x - p) -
+I theta_f'' / (m h), but eq. 7's estimate x - x''/omega^2 is then the CMP, p + I theta_f'' /
+(m g). We take p = CMP - I theta_f'' / (m g), theta_f'' from the estimator's tilt filter
+(`RobotState.inertia_tilt_acceleration`), so that p~ = x~ - x~''/omega^2 with x~'' = x'' +
+I theta_f'' / (m h), eq. 13's own LIPM form. The paper says the theta'' term "gets hidden within
+x~''" and does not estimate it. Measured (MuJoCo, `stand`, Choi's gains, bent knees): the full
+method falls after 0.18 s with the CMP and 0.6 s with the ZMP (0.66 / 0.39 s MuJoCo / PyBullet
+with the straight-leg layer); it stood 3 s only with the bent-knee layer and the inertia loop's
+gains at 0.1 K_zmp and 0.3 K_com (issue 17's note).
+
 A state without a ZMP (an estimator with force sensors and no loaded limb gives NaN) drops the
 ZMP term for that period. The ablation modes of the paper's Table 1 are `FeedbackOptions`.
 """
@@ -129,6 +139,7 @@ class DirectCentroidalStabilizer:
                         x,
                         p,
                         state.inertia_tilt - neutral,
+                        state.inertia_tilt_acceleration,
                         axes_set,
                         height,
                         k_com,
@@ -149,19 +160,33 @@ class DirectCentroidalStabilizer:
             inertia_axes_world=axes,
         )
 
-    def _inertia(self, x_set, p_ref, x, p, theta_f, axes_ref, height, k_com, k_zmp) -> np.ndarray:
+    def _inertia(
+        self, x_set, p_ref, x, p, theta_f, theta_f_acceleration, axes_ref, height, k_com, k_zmp
+    ) -> np.ndarray:
         """Eqs. 12-15: R_I^set = R_c R_I^ref; theta_f (2,) [rad] the flywheel angle (the
-        estimator's, less the reference's neutral lean)."""
+        estimator's, less the reference's neutral lean), theta_f_acceleration (2,) [rad/s^2]
+        (None: taken as 0)."""
         # moments about the axes the tilts turn about: a tilt toward +x turns about y
         inertia = np.array([self.moments[1], self.moments[0]])
         scale = inertia / (self.mass * height)
         x_aug = x + scale * theta_f  # eq. 13
-        p_aug = p + scale * theta_f
+        p_aug = flywheel_zmp(p, scale, theta_f_acceleration, height) + scale * theta_f
         control = -k_zmp * (p_ref - p_aug) + k_com * (x_set - x_aug)  # eq. 14
         self.x_aug_i = control * self.dt + (1.0 - self.alpha) * self.x_aug_i
         theta_set = self.x_aug_i / scale  # eq. 15
         rotation = tilt_rotation(axis_from_angles(theta_set[0], theta_set[1]))
         return rotation @ axes_ref  # eq. 12
+
+
+def flywheel_zmp(
+    cmp: np.ndarray, scale: np.ndarray, theta_acceleration: np.ndarray | None, height: float
+) -> np.ndarray:
+    """The flywheel model's ZMP [m] from eq. 7's estimate, which is its CMP (see the module):
+    p = CMP - I theta'' / (m g) = CMP - scale theta'' h / g, scale = I / (m h) [m/rad],
+    theta'' [rad/s^2], h [m]. Ours: the paper leaves the theta'' term "hidden"."""
+    if theta_acceleration is None:
+        return cmp
+    return cmp - scale * theta_acceleration * (height / GRAVITY)
 
 
 def _unit(vector: np.ndarray) -> np.ndarray:

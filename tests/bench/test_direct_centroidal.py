@@ -77,7 +77,7 @@ def test_a_15_ns_walking_push_to_the_left_is_survived_by_stepping_elsewhere(walk
 
 @pytest.mark.xfail(
     strict=True,
-    reason="inertia controller unstable on our robot: falls within 0.4 s standing (issue 17)",
+    reason="inertia controller unstable on our robot: falls within 0.7 s standing (issue 17)",
 )
 def test_the_full_method_with_inertia_control_stands():
     assert _run("direct_centroidal", "mujoco", "stand", duration=2.0).summary["status"] == "ok"

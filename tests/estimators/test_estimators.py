@@ -152,3 +152,6 @@ def test_five_mass_kalman_zmp_agrees_with_the_force_sensors_on_a_standing_robot(
     assert max(com_error) < 0.005
     assert b.inertia_tilt is not None
     assert np.all(np.isfinite(b.inertia_tilt))
+    # standing still, the flywheel neither turns nor accelerates (the tilt filter's states)
+    assert np.abs(b.inertia_tilt_rate).max() < 1e-3
+    assert np.abs(b.inertia_tilt_acceleration).max() < 1e-2

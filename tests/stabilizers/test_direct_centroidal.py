@@ -1,0 +1,41 @@
+"""The inertia controller's ZMP (Ficht & Behnke eq. 13): eq. 7's estimate is the CMP of the
+flywheel model; `flywheel_zmp` recovers the ZMP from it and the flywheel's acceleration."""
+
+import math
+
+import numpy as np
+
+from stabilizers.direct_centroidal import GRAVITY, flywheel_zmp
+
+
+def test_the_flywheel_zmp_of_a_simulated_pendulum_plus_flywheel_is_its_zmp():
+    """Integrate x'' = omega^2 (x - p) - s theta'' (eq. 13 with the ZMP p held) for a flywheel
+    swung as theta = A sin(w t): eq. 7's x - x''/omega^2 is off p by s theta'' / omega^2 (the
+    CMP), and `flywheel_zmp` of it is p again; the augmented CoM obeys eq. 13's LIPM form."""
+    height, scale, zmp = 0.8, 0.12, 0.01  # [m], I/(m h) [m/rad], [m]
+    omega2 = GRAVITY / height
+    dt, amplitude, rate = 1e-4, 0.05, 2 * math.pi * 2.0
+    x, v = 0.0, 0.0
+    worst_cmp, worst_zmp, worst_lipm = 0.0, 0.0, 0.0
+    for k in range(5000):
+        t = k * dt
+        theta_dd = -amplitude * rate**2 * math.sin(rate * t)
+        acceleration = omega2 * (x - zmp) - scale * theta_dd
+        cmp = x - acceleration / omega2  # eq. 7
+        recovered = flywheel_zmp(np.array([cmp]), np.array([scale]), np.array([theta_dd]), height)
+        worst_cmp = max(worst_cmp, abs(cmp - zmp))
+        worst_zmp = max(worst_zmp, abs(recovered[0] - zmp))
+        theta = amplitude * math.sin(rate * t)
+        x_aug, p_aug = x + scale * theta, recovered[0] + scale * theta
+        aug_acceleration = acceleration + scale * theta_dd
+        worst_lipm = max(worst_lipm, abs(aug_acceleration - omega2 * (x_aug - p_aug)))
+        v += acceleration * dt
+        x += v * dt
+    assert worst_cmp > 0.01  # the CMP is centimetres off while the flywheel swings
+    assert worst_zmp < 1e-12
+    assert worst_lipm < 1e-9
+
+
+def test_without_a_flywheel_acceleration_the_estimate_is_kept():
+    cmp = np.array([0.02, -0.01])
+    assert np.array_equal(flywheel_zmp(cmp, np.array([0.12, 0.1]), None, 0.8), cmp)
