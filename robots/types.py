@@ -229,6 +229,13 @@ class CentroidalPlan:
     step_remaining_s: float | None = None
     """[s] the nominal time left in the current step, t_r = (1 - mu) / f_g (Ficht & Behnke
     eq. 10), for planners that step by a gait phase; None: not stepping."""
+    generalized_acceleration: np.ndarray | None = None
+    """(nv,) the whole-body accelerations a planner decided (pinocchio's convention: base
+    linear and angular acceleration in the base frame, then joints) [m/s^2, rad/s^2], for
+    planners that solve the whole body's dynamics (Sherikov et al.); None: not given."""
+    contact_wrench_limb: np.ndarray | None = None
+    """(n_limbs, 6) contact wrenches such a planner decided: force [N] and moment [N m] of the
+    environment on each limb, in its contact frame about its origin (zero off contact)."""
 
     def desired_state(self) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
         """(c^d, c'^d, base orientation^d, omega^d), falling back to the planned state."""
@@ -279,3 +286,6 @@ class WholeBodyTargets:
     inertia_axes_world: np.ndarray | None = None
     """(3, 3) the orientation R_I^set of the principal axes of inertia that a five-mass pose
     generator realises (Ficht & Behnke eq. 12); None: no such target."""
+    generalized_acceleration: np.ndarray | None = None
+    """(nv,) accelerations for an inverse-dynamics layer (as `CentroidalPlan.generalized
+    _acceleration`), realised with `contact_wrench_desired_limb`; None: not given."""

@@ -24,7 +24,12 @@ class WholeBodyLayer(Protocol):
 # `ComponentSpec.factory(model, dt)` builds a layer for a `RobotModel` and control period dt [s]
 WHOLE_BODY_LAYERS = Registry(
     "whole-body layer",
-    modules=("wholebody.ik_feedforward", "wholebody.ik_only", "wholebody.five_mass_pose"),
+    modules=(
+        "wholebody.ik_feedforward",
+        "wholebody.ik_only",
+        "wholebody.five_mass_pose",
+        "wholebody.inverse_dynamics",
+    ),
 )
 register = WHOLE_BODY_LAYERS.register
 DEFAULT_WHOLE_BODY = "ik"
