@@ -764,7 +764,7 @@ def _list(args: argparse.Namespace) -> int:
 
     print("controllers (planner, stabilizer, whole-body layer):")
     show(CONTROLLERS)
-    print("ablations (not in a sweep of all controllers):")
+    print("ablations and methods not yet in the main job (not in a sweep of all controllers):")
     show({n: s for n, s in ABLATIONS.items() if n not in CONTROLLERS})
     sections = {
         "planners": described(PLANNERS),

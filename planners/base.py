@@ -25,6 +25,7 @@ PLANNERS = Registry(
         "planners.preview_zmp",
         "planners.linear_mpc",
         "planners.five_mass_gait",
+        "planners.capturability_hierarchy",
     ),
 )
 PlannerSpec = ComponentSpec

@@ -24,6 +24,7 @@ STABILIZERS = Registry(
         "stabilizers.centroidal_feedback",
         "stabilizers.dcm",
         "stabilizers.direct_centroidal",
+        "stabilizers.passthrough",
     ),
 )
 StabilizerSpec = ComponentSpec

@@ -6,29 +6,17 @@ the measurement)."""
 import numpy as np
 import pytest
 
-from bench.controllers import controller_spec
-from bench.runner import EpisodeSpec, run_episode
 from bench.scenarios import make_scenario
 from robots.humanoid import humanoid
 from robots.model import cached_model
+from tests.bench.episodes import run_controller
 
 SIMS = ("mujoco", "pybullet")
 WALKING = "direct_centroidal/bent_no_inertia"
 
 
 def _run(controller: str, sim: str, scenario: str, **kwargs):
-    spec = controller_spec(controller)
-    return run_episode(
-        EpisodeSpec(
-            spec.planner,
-            spec.stabilizer,
-            sim,
-            scenario,
-            estimator=spec.estimator,
-            whole_body=spec.whole_body,
-            **kwargs,
-        )
-    )
+    return run_controller(controller, sim, scenario, **kwargs)
 
 
 @pytest.fixture(scope="module")

@@ -1,0 +1,703 @@
+"""Planner `capturability_hierarchy`: Sherikov, Dimitrov & Wieber, "Whole body motion controller
+with long-term balance constraints" (Humanoids 2014). One hierarchical least-squares problem per
+control period decides the joint and base accelerations, the contact wrenches, the previewed
+CoP and the next footsteps (Sec. VI); there is no separate planning stage, so this "planner" is
+the whole method, and its plan carries the accelerations and wrenches that the `passthrough`
+stabilizer hands to the `inverse_dynamics` layer (torques, eq. 1).
+
+Decision variables x (`Layout`): q'' (nv; pinocchio's convention), per foot the friction-pyramid
+coefficients lambda (4) and the moment mu_c (3) at the sole centre (eqs. 3-4; both in units of
+the robot's weight m g, and m g x 1 m, so that every variable is of order one), the CoM
+acceleration c''_0 (x, y), the previewed CoP Z (N per axis) and the displacements of the next
+K footsteps from the foothold before each (eq. 12's rectangles as bounds on them).
+
+Levels (Sec. VI):
+1. dynamics of the floating base (eq. 2), lambda >= 0 (5), torsional friction (6), CoP in the
+   sole (7), no stance-foot acceleration (8), joint limits over a horizon T (9), CoM coupling
+   (15), swing-foot coupling (16), previewed CoP in the previewed footholds (11), footstep
+   rectangles (12); a foot in the air has lambda = mu = 0;
+2. the terminal capturability constraint (14);
+3. weighted objectives: hand (17), torso orientation (18), joint PD (19), CoP centring (21),
+   CoP velocity (22), swing-foot jerk (20), and (ours, after the paper's [3]) a CoM velocity
+   objective for walking on a gait command.
+
+The paper's numbers used as printed: a preview of two steps of 0.8 s at 100 ms (N = 16, K = 2),
+fixed step timing with free footstep positions. What the paper leaves open, chosen here and
+named as constants below: the objectives' weights and gains, the joint-limit horizon T, the
+torsional friction coefficient, the footstep rectangles, the swing's vertical profile, the
+split of a step into 0.7 s single and 0.1 s double support (Herdt et al.'s), and when a
+standing robot starts to step (ours: when level 2 cannot be met standing).
+"""
+
+from __future__ import annotations
+
+import math
+import time
+from dataclasses import dataclass
+
+import numpy as np
+import pinocchio as pin
+
+from centroidal.capture_preview import capture_velocity_row, preview, swing_cubic
+from centroidal.hierarchy import HierarchyError, Level, solve_hierarchy
+from centroidal.whole_body_rows import WholeBodyTerms, whole_body_terms
+from planners.base import PlannerSpec, register
+from planners.step_schedule import FEET, StepSchedule, other_foot
+from robots.model import RobotModel
+from robots.scene import Scenario
+from robots.types import CentroidalPlan, Footstep, RobotState
+
+GRAVITY = 9.81
+PREVIEW_INTERVALS = 16  # N: two steps of 0.8 s at 100 ms (Sec. VII)
+PREVIEW_PERIOD_S = 0.1
+FOOTSTEPS = 2  # K
+SINGLE_SUPPORT_S, DOUBLE_SUPPORT_S = 0.7, 0.1  # one step of 0.8 s (Herdt et al.'s split)
+JOINT_LIMIT_HORIZON_S = 0.1  # T of eq. 9 (ours)
+STEP_LENGTH_MAX_M = 0.3  # eq. 12's rectangle: +-0.3 m forward (ours, at scale 1)
+STEP_WIDTH_EXTRA_M = (-0.05, 0.2)  # lateral: the standing width -0.05 ... +0.2 m (ours)
+# objectives (level 3), weights on squared residuals, and gains (ours: the paper gives none)
+POSTURE_KP, POSTURE_KD, POSTURE_WEIGHT = 10.0, 2 * math.sqrt(10.0), 1e-2  # eq. 19 [1/s^2, 1/s]
+TORSO_KP, TORSO_KD, TORSO_WEIGHT = 100.0, 20.0, 1.0  # eq. 18
+HAND_KP, HAND_KD, HAND_ERROR_MAX, HAND_WEIGHT = 10.0, 2 * math.sqrt(10.0), 0.1, 1.0  # eq. 17
+COP_WEIGHT = 10.0  # eq. 21 [per m^2]
+COP_VELOCITY_WEIGHT = 1e-2  # eq. 22 [per (m/s)^2]
+JERK_WEIGHT = 1e-2  # eq. 20 [per (m/s^3)^2]
+JERK_TIME_FLOOR_S = 0.1  # [s] eq. 20's remaining time no shorter (row norms within 1e4)
+ADAPTATION_BLOCK_S = 0.1  # [s] the footstep is kept in the last 0.1 s of a swing (ours)
+VELOCITY_WEIGHT = 1.0
+HEIGHT_KP, HEIGHT_KD, HEIGHT_WEIGHT = (
+    100.0,
+    20.0,
+    10.0,
+)  # CoM height held (ours)  # CoM velocity objective (ours, after [3]) [per (m/s)^2]
+SWING_ORIENTATION_KP, SWING_ORIENTATION_KD = 100.0, 20.0  # eq. 16's constant orientation, held
+SWING_TIME_FLOOR_S = 0.05  # [s] the cubics' remaining time no shorter (ours: see _swing_rows)
+CONTACT_DAMPING = 20.0  # [1/s] eq. 8 as J q'' + J' q' = -K J q' (ours, see _levels)
+SOLE_MARGIN_M = 0.02  # [m] eqs. 7, 11 keep the CoP this far inside the sole's edges (ours)
+MIN_NORMAL_FORCE = 0.05  # a contact sole's least normal force, in units of m g (ours)
+STEP_TRIGGER_M = 0.05  # [m] capture point off the feet's middle that makes it step (ours)
+STOP_MARGIN_M, STOP_SPEED = 0.02, 0.1  # a push-started walk stops when capture point is inside
+
+
+def torsional_friction(friction: float, half_extents: tuple[float, float]) -> float:
+    """gamma of eq. 6 [m] (the paper cites [23] without a value): the torsional moment a
+    rectangular sole can hold under a uniform pressure, mu F times the mean distance of its
+    points from the centre, approximated as mu (a + b) / 3 for half extents a, b (exact for a
+    square's inscribed disc bound; ours)."""
+    a, b = half_extents
+    return friction * (a + b) / 3.0
+
+
+def friction_pyramid(friction: float) -> np.ndarray:
+    """G of eq. 4 (3, 4): unit vectors along the edges of the linearised friction cone, in the
+    contact frame (z normal): (+-mu, 0, 1) and (0, +-mu, 1), normalised."""
+    edges = np.array([[friction, 0, 1], [-friction, 0, 1], [0, friction, 1], [0, -friction, 1]])
+    return (edges / np.linalg.norm(edges, axis=1)[:, None]).T
+
+
+@dataclass(frozen=True)
+class Layout:
+    """Where each decision variable sits in x (see the module)."""
+
+    nv: int
+    samples: int
+    steps: int
+
+    @property
+    def qdd(self) -> slice:
+        return slice(0, self.nv)
+
+    def force(self, foot: int) -> slice:
+        start = self.nv + 7 * foot
+        return slice(start, start + 4)
+
+    def moment(self, foot: int) -> slice:
+        start = self.nv + 7 * foot + 4
+        return slice(start, start + 3)
+
+    @property
+    def cdd(self) -> slice:
+        start = self.nv + 14
+        return slice(start, start + 2)
+
+    def cop(self, axis: int) -> slice:
+        start = self.nv + 16 + axis * self.samples
+        return slice(start, start + self.samples)
+
+    def step(self, j: int) -> slice:
+        """Displacement (x, y) of footstep j >= 1 from the foothold before it."""
+        start = self.nv + 16 + 2 * self.samples + 2 * (j - 1)
+        return slice(start, start + 2)
+
+    @property
+    def size(self) -> int:
+        return self.nv + 16 + 2 * self.samples + 2 * self.steps
+
+
+class _Rows:
+    """Rows of one level: lower <= A x <= upper, appended block by block."""
+
+    def __init__(self, n: int) -> None:
+        self.n = n
+        self.blocks: list[tuple[np.ndarray, np.ndarray, np.ndarray]] = []
+        self.names: list[str] = []  # per row, for reports of which rows are violated
+
+    def add(self, a: np.ndarray, lower, upper, weight: float = 1.0, name: str = "") -> None:
+        a = np.atleast_2d(a)
+        self.names.extend([name] * a.shape[0])
+        lower = np.broadcast_to(np.asarray(lower, dtype=float), a.shape[:1])
+        upper = np.broadcast_to(np.asarray(upper, dtype=float), a.shape[:1])
+        scale = math.sqrt(weight)
+        self.blocks.append((a * scale, lower * scale, upper * scale))
+
+    def equal(self, a: np.ndarray, value, weight: float = 1.0, name: str = "") -> None:
+        self.add(a, value, value, weight, name)
+
+    def level(self, name: str, normalise: bool = False) -> Level:
+        """The level's rows; `normalise` scales each row to unit norm, so that the violation
+        of an infeasible level is measured in each row's own units (as DAQP weights rows
+        natively) and the rows' norms stay within the solver's accepted ratio."""
+        if not self.blocks:
+            return Level(np.zeros((0, self.n)), np.zeros(0), np.zeros(0), name)
+        a = np.vstack([b[0] for b in self.blocks])
+        lower = np.concatenate([b[1] for b in self.blocks])
+        upper = np.concatenate([b[2] for b in self.blocks])
+        if normalise:
+            norms = np.linalg.norm(a, axis=1)
+            norms[norms == 0.0] = 1.0
+            a, lower, upper = a / norms[:, None], lower / norms, upper / norms
+        return Level(a, lower, upper, name)
+
+
+class CapturabilityHierarchyPlanner:
+    name = "capturability_hierarchy"
+
+    def __init__(self, dt: float) -> None:
+        self.dt = dt
+
+    # ------------------------------------------------------------------ set-up
+    def reset(self, robot: RobotModel, scenario: Scenario, state: RobotState) -> None:
+        self.robot_model = robot
+        self.model = robot.model
+        self.data = self.model.createData()
+        description = robot.robot
+        self.scale = description.scale
+        self.limb_names = description.limb_names
+        limbs = {limb.name: limb for limb in description.limbs}
+        self.foot_frames = [robot.frame_id[limbs[f].contact_frame] for f in FEET]
+        self.hand_frame = robot.frame_id[limbs["right_hand"].contact_frame]
+        self.base_frame = robot.frame_id[description.base_link]
+        self.limb_frames = [robot.frame_id[limb.contact_frame] for limb in description.limbs]
+        self.half_extents = np.array(limbs[FEET[0]].half_extents[:2], dtype=float)
+        # eqs. 7 and 11 on the sole less a margin (ours: a CoP on the very edge tips the foot)
+        self.cop_extents = self.half_extents - SOLE_MARGIN_M * description.scale
+        self.weight = robot.total_mass * GRAVITY
+        friction = scenario.scene.friction
+        self.pyramid = friction_pyramid(friction)
+        self.gamma = torsional_friction(friction, tuple(self.half_extents))
+        self.lower = description.array("lower")
+        self.upper = description.array("upper")
+        self.nominal = np.array(description.nominal_posture)
+        self.layout = Layout(self.model.nv, PREVIEW_INTERVALS, FOOTSTEPS)
+        q = robot.configuration(state)
+        pin.framesForwardKinematics(self.model, self.data, q)
+        soles = [self.data.oMf[f].translation.copy() for f in self.foot_frames]
+        self.ground = float(np.mean([s[2] for s in soles]))
+        self.foothold = {foot: soles[i][:2].copy() for i, foot in enumerate(FEET)}
+        self.standing_width = float(abs(soles[0][1] - soles[1][1]))
+        com = pin.centerOfMass(self.model, self.data, q)
+        self.height = float(com[2] - self.ground)
+        self.omega = math.sqrt(GRAVITY / self.height)
+        self.preview = preview(
+            self.height, PREVIEW_PERIOD_S * math.sqrt(self.scale), PREVIEW_INTERVALS
+        )
+        self.capture_row = capture_velocity_row(self.preview)
+        self.period_s = PREVIEW_PERIOD_S * math.sqrt(self.scale)
+        self.schedule = StepSchedule(
+            SINGLE_SUPPORT_S * math.sqrt(self.scale), DOUBLE_SUPPORT_S * math.sqrt(self.scale)
+        )
+        self.base_orientation_reference = np.array(state.base_orientation_world, dtype=float)
+        self.velocity_reference = None
+        self.walk_by_push = False
+        self.swing_height = scenario.swing_height
+        gait = scenario.gait
+        if gait is not None:
+            forward, lateral = gait.step_length_for(self.scale)
+            period = gait.step_period * math.sqrt(self.scale)
+            self.velocity_reference = np.array([forward, lateral]) / period
+            first = FEET[0] if lateral > 0 else FEET[1]
+            duration = gait.steps * gait.step_period * math.sqrt(self.scale)
+            self.schedule.start(
+                gait.start_double_support * math.sqrt(self.scale),
+                first,
+                max(1, round(duration / self.schedule.period_s)),
+            )
+            self.swing_height = gait.swing_height * self.scale
+        self.hand_target = None
+        self.warm = None
+        self.last_phase = self.schedule.phase(0.0)
+        self.swing_start: np.ndarray | None = None
+        self.solver_failures = 0
+        self.last_solution: np.ndarray | None = None
+        self.last_step: np.ndarray | None = None
+
+    # ------------------------------------------------------------------ one period
+    def plan(self, t: float, state: RobotState) -> CentroidalPlan:
+        start_ns = time.perf_counter_ns()
+        robot = self.robot_model
+        q = robot.configuration(state)
+        v = robot.velocity(state, q)
+        frames = [*self.foot_frames, self.hand_frame, self.base_frame]
+        terms = whole_body_terms(self.model, self.data, q, v, frames)
+        self._velocities = {f: terms.jacobian[f] @ v for f in frames}
+        phase = self._advance(t, terms)
+        self._t = t
+        terms_ns = time.perf_counter_ns()
+        levels, context = self._levels(t, q, v, terms, phase)
+        build_ns = time.perf_counter_ns()
+        # hot start (Sec. VII) from the last period's active set when the rows are the same
+        signature = (phase.swing, tuple(level.a.shape[0] for level in levels))
+        warm = self.warm[1] if self.warm is not None and self.warm[0] == signature else None
+        try:
+            solution = solve_hierarchy(levels, self.layout.size, warm_start=warm)
+        except HierarchyError:
+            # DAQP gave up (measured: its exitflag 3 when level 1 leaves no freedom): the
+            # same hierarchy through the reference cascade of QPs, counted as a failure
+            self.solver_failures += 1
+            solution = solve_hierarchy(levels, self.layout.size, solver="cascade")
+        solve_ns = time.perf_counter_ns()
+        x = solution.x
+        if not np.all(np.isfinite(x)):
+            raise RuntimeError(f"hierarchy solver failed (exitflag {solution.exitflag})")
+        self.warm = (signature, solution.active)
+        self.last_step = x[self.layout.step(1)].copy() if phase.swing is not None else None
+        if not self.schedule.walking:
+            self._maybe_step(t, terms)
+        plan = self._plan(t, x, terms, phase, context)
+        timings = {
+            "terms": terms_ns - start_ns,
+            "rows": build_ns - terms_ns,
+            "hierarchy": solve_ns - build_ns,
+            "plan": time.perf_counter_ns() - solve_ns,
+        }
+        object.__setattr__(plan, "timings_ns", timings)
+        self.iterations = solution.iterations
+        return plan
+
+    def _advance(self, t: float, terms: WholeBodyTerms):
+        """The schedule's phase at t; at a touchdown the landed foot's foothold is where it
+        is; a push-started walk stops when the robot can stand again."""
+        phase = self.schedule.phase(t)
+        last = self.last_phase
+        if last.swing is not None and phase.swing != last.swing:  # a touchdown
+            frame = self.foot_frames[FEET.index(last.swing)]
+            self.foothold[last.swing] = terms.placement[frame][0][:2].copy()
+        if phase.swing is not None and phase.swing != last.swing:  # a lift-off
+            frame = self.foot_frames[FEET.index(phase.swing)]
+            self.swing_start = terms.placement[frame][0].copy()
+        if self.walk_by_push and phase.swing is None and phase.step >= 1:
+            capture = terms.com_position[:2] + terms.com_velocity[:2] / self.omega
+            low, high = self._both_feet_box()
+            inside = np.all(capture > low + STOP_MARGIN_M) and np.all(
+                capture < high - STOP_MARGIN_M
+            )
+            if inside and np.linalg.norm(terms.com_velocity[:2]) < STOP_SPEED:
+                self.schedule.stop_after(phase.step)
+                self.walk_by_push = False
+                phase = self.schedule.phase(t)
+        self.last_phase = phase
+        return phase
+
+    def _maybe_step(self, t: float, terms: WholeBodyTerms) -> None:
+        """Ours (the paper's robot always walks, in place when nothing drives it): a standing
+        robot starts to step when its capture point c + c'/omega is more than
+        `STEP_TRIGGER_M` from the middle of its feet along x or y, after one double support."""
+        capture = terms.com_position[:2] + terms.com_velocity[:2] / self.omega
+        middle = (self.foothold[FEET[0]] + self.foothold[FEET[1]]) / 2
+        if np.max(np.abs(capture - middle)) <= STEP_TRIGGER_M * self.scale:
+            return
+        # the foot away from the capture point swings first: it is the unloaded one (the
+        # loaded one cannot be lifted in one double support), and K = 2 steps recover
+        first = FEET[1] if capture[1] > middle[1] else FEET[0]
+        self.schedule.start(t + self.schedule.double_s, first)
+        self.walk_by_push = True
+
+    def _both_feet_box(self) -> tuple[np.ndarray, np.ndarray]:
+        points = np.array([self.foothold[f] for f in FEET])
+        return points.min(axis=0) - self.cop_extents, points.max(axis=0) + self.cop_extents
+
+    # ------------------------------------------------------------------ the hierarchy
+    def _levels(self, t, q, v, terms: WholeBodyTerms, phase):
+        lay, n = self.layout, self.layout.size
+        first, second, third = _Rows(n), _Rows(n), _Rows(n)
+        nv = lay.nv
+        stance = [f for f in FEET if f != phase.swing]
+        weight = self.weight
+        # eq. 2: the base rows of H q'' + h = J_c^T f, scaled by 1 / (m g)
+        dynamics = np.zeros((6, n))
+        dynamics[:, lay.qdd] = terms.mass_matrix[:6] / weight
+        for i, foot in enumerate(FEET):
+            frame = self.foot_frames[i]
+            jacobian, rotation = terms.jacobian[frame], terms.placement[frame][1]
+            if foot in stance:
+                # J_lwa^T [R f; R m] with f = m g G lambda, m = m g mu
+                dynamics[:, lay.force(i)] = -jacobian[:3, :6].T @ rotation @ self.pyramid
+                dynamics[:, lay.moment(i)] = -jacobian[3:, :6].T @ rotation
+                self._contact_rows(first, i)
+                # eq. 8: the stance sole does not accelerate (ours: its velocity damped)
+                a = np.zeros((6, n))
+                a[:, lay.qdd] = jacobian
+                first.equal(
+                    a, -terms.drift[frame] - CONTACT_DAMPING * self._velocities[frame], name="eq8"
+                )
+            else:  # in the air: no force
+                a = np.zeros((7, n))
+                a[:4, lay.force(i)] = np.eye(4)
+                a[4:, lay.moment(i)] = np.eye(3)
+                first.equal(a, 0.0, name="air")
+        first.equal(dynamics, -terms.bias[:6] / weight, name="dynamics")
+        # eq. 9: joint limits over the horizon T
+        horizon = JOINT_LIMIT_HORIZON_S
+        joints, rates = q[7:], v[6:]
+        a = np.zeros((nv - 6, n))
+        a[:, 6:nv] = np.eye(nv - 6)
+        first.add(
+            a,
+            2 * (self.lower - joints - horizon * rates) / horizon**2,
+            2 * (self.upper - joints - horizon * rates) / horizon**2,
+            name="joint_limits",
+        )
+        # eq. 15: the CoM acceleration is the preview's initial one
+        a = np.zeros((2, n))
+        a[:, lay.qdd] = terms.com_jacobian[:2]
+        a[:, lay.cdd] = -np.eye(2)
+        first.equal(a, -terms.com_drift[:2], name="com_coupling")
+        # the footholds and eqs. 11, 12, 16, 20, 21
+        supports = self.schedule.sample_supports(t, self.period_s, lay.samples)
+        context = self._preview_rows(first, second, third, terms, phase, supports)
+        # level 3: eqs. 18, 19 (and 17 when a hand target is set)
+        base = self.base_frame
+        rotation = terms.placement[base][1]
+        reference = pin.Quaternion(*self.base_orientation_reference).toRotationMatrix()
+        error = pin.log3(reference @ rotation.T)
+        omega = terms.jacobian[base][3:] @ v
+        a = np.zeros((3, n))
+        a[:, lay.qdd] = terms.jacobian[base][3:]
+        third.equal(
+            a, TORSO_KP * error - TORSO_KD * omega - terms.drift[base][3:], TORSO_WEIGHT, "torso"
+        )
+        a = np.zeros((nv - 6, n))
+        a[:, 6:nv] = np.eye(nv - 6)
+        third.equal(
+            a, POSTURE_KP * (self.nominal - joints) - POSTURE_KD * rates, POSTURE_WEIGHT, "posture"
+        )
+        if self.hand_target is not None:
+            hand = self.hand_frame
+            position = terms.placement[hand][0]
+            velocity = terms.jacobian[hand][:3] @ v
+            error = self.hand_target - position
+            norm = np.linalg.norm(error)
+            if norm > HAND_ERROR_MAX:
+                error *= HAND_ERROR_MAX / norm
+            a = np.zeros((3, n))
+            a[:, lay.qdd] = terms.jacobian[hand][:3]
+            third.equal(
+                a, HAND_KP * error - HAND_KD * velocity - terms.drift[hand][:3], HAND_WEIGHT, "hand"
+            )
+        # ours: the CoM height held (the point-mass model's constant c_z, Sec. III-A)
+        a = np.zeros((1, n))
+        a[0, lay.qdd] = terms.com_jacobian[2]
+        height_error = self.ground + self.height - terms.com_position[2]
+        third.equal(
+            a,
+            HEIGHT_KP * height_error - HEIGHT_KD * terms.com_velocity[2] - terms.com_drift[2],
+            HEIGHT_WEIGHT,
+            "com_height",
+        )
+        self.row_names = (first.names, second.names, third.names)
+        levels = [
+            first.level("constraints", normalise=True),
+            second.level("capturability", normalise=True),
+            third.level("objectives"),
+        ]
+        return levels, context
+
+    def _contact_rows(self, rows: _Rows, foot: int) -> None:
+        """Eqs. 5-7 for a foot in contact, in units of m g: lambda >= 0, |mu_z| <= gamma f_z,
+        the CoP (-mu_y / f_z, mu_x / f_z) inside the sole's half extents."""
+        lay, n = self.layout, self.layout.size
+        normal = self.pyramid[2]  # f_z per unit lambda
+        a = np.zeros((4, n))
+        a[:, lay.force(foot)] = np.eye(4)
+        rows.add(a, 0.0, np.inf, name="lambda")
+        # ours: every foot in contact carries a minimum load (an unloaded sole drifts away)
+        a = np.zeros((1, n))
+        a[0, lay.force(foot)] = normal
+        rows.add(a, MIN_NORMAL_FORCE, np.inf, name="min_force")
+        half_x, half_y = self.cop_extents
+        moment = lay.moment(foot).start
+        a = np.zeros((6, n))
+        for r, (index, sign, bound) in enumerate(
+            [
+                (2, 1, self.gamma),
+                (2, -1, self.gamma),
+                (1, -1, half_x),
+                (1, 1, half_x),
+                (0, 1, half_y),
+                (0, -1, half_y),
+            ]
+        ):
+            a[r, moment + index] = sign
+            a[r, lay.force(foot)] = -bound * normal
+        rows.add(a, -np.inf, 0.0, name="cop_sole")
+
+    def _preview_rows(self, first, second, third, terms, phase, supports):
+        """Eqs. 11, 12, 14, 16, 20, 21, 22 and the velocity objective; returns the footholds
+        (index 0: now) as (known part (2,), footstep count) for the plan."""
+        lay, n = self.layout, self.layout.size
+        pre = self.preview
+        c0, dc0 = terms.com_position[:2], terms.com_velocity[:2]
+        walking = self.schedule.walking and phase.step >= 0
+        starting = self.schedule.starting(self._t)
+        # the current support (index 0): its centre and CoP box; the anchor the footsteps
+        # are chained from (p_1 = anchor + d_1, p_j = p_{j-1} + d_j)
+        if not walking:
+            low, high = self._both_feet_box()
+            current = (low + high) / 2
+            box = (low - current, high - current)
+            feet_next = []
+            anchor = current
+            if starting:  # the double support before a walk's first step
+                first_swing = self.schedule.swing_of(0)
+                anchor = self.foothold[other_foot(first_swing)]
+                feet_next = [first_swing, other_foot(first_swing)][: lay.steps]
+        else:
+            current = anchor = self.foothold[phase.stance]
+            box = (-self.cop_extents, self.cop_extents)
+            # the feet of the next K footsteps: the swing foot (or the other one in double
+            # support), then alternating
+            next_foot = phase.swing if phase.swing is not None else other_foot(phase.stance)
+            feet_next = [next_foot, other_foot(next_foot)][: lay.steps]
+        foot_box = (-self.cop_extents, self.cop_extents)
+        # eq. 12: the rectangles (bounds on the displacements); standing: no footstep
+        length = STEP_LENGTH_MAX_M * self.scale
+        w_low = self.standing_width + STEP_WIDTH_EXTRA_M[0] * self.scale
+        w_high = self.standing_width + STEP_WIDTH_EXTRA_M[1] * self.scale
+        for j in range(1, lay.steps + 1):
+            a = np.zeros((2, n))
+            a[:, lay.step(j)] = np.eye(2)
+            if j <= len(feet_next):
+                side = 1.0 if feet_next[j - 1] == FEET[0] else -1.0
+                y_range = sorted((side * w_low, side * w_high))
+                first.add(a, [-length, y_range[0]], [length, y_range[1]], name="footstep_box")
+            else:
+                first.equal(a, 0.0, name="no_footstep")
+        for axis in range(2):
+            cop = lay.cop(axis)
+            # eq. 11 now too: the preview's CoP z_0 = c_0 - c''_0 / omega^2 in the current
+            # support (else the point mass could lean on a CoP that only angular momentum of
+            # the whole body would realise)
+            a = np.zeros(n)
+            a[lay.cdd.start + axis] = -1.0 / self.omega**2
+            first.add(
+                a,
+                box[0][axis] + current[axis] - c0[axis],
+                box[1][axis] + current[axis] - c0[axis],
+                name="cop_now",
+            )
+            for k in range(lay.samples):
+                j = int(supports[k])
+                a = np.zeros(n)
+                a[cop.start + k] = 1.0
+                for i in range(1, j + 1):
+                    a[lay.step(i).start + axis] = -1.0
+                centre, bounds = (current, box) if j == 0 else (anchor, foot_box)
+                # eq. 11: z_k - p_j inside the sole (both feet while standing)
+                first.add(
+                    a,
+                    bounds[0][axis] + centre[axis],
+                    bounds[1][axis] + centre[axis],
+                    name="cop_preview",
+                )
+                # eq. 21: CoP centring
+                third.equal(a, centre[axis], COP_WEIGHT, "cop")
+            # eq. 14 at level 2
+            row_known, row_acc, row_cop = self.capture_row
+            a = np.zeros(n)
+            a[lay.cdd.start + axis] = row_acc
+            a[cop] = row_cop
+            second.equal(a, -row_known @ np.array([c0[axis], dc0[axis]]), name="capture")
+            # eq. 22: CoP velocity
+            a = np.zeros((lay.samples, n))
+            a[:, lay.cdd.start + axis] = pre.d_acc
+            a[:, cop] = pre.d_cop
+            third.equal(
+                a,
+                -pre.d_known @ np.array([c0[axis], dc0[axis]]),
+                COP_VELOCITY_WEIGHT,
+                "cop_velocity",
+            )
+            # velocity objective (ours, after [3]): the previewed CoM velocity
+            if self.velocity_reference is not None:
+                a = np.zeros((lay.samples, n))
+                a[:, lay.cdd.start + axis] = pre.s_acc[:, 1]
+                a[:, cop] = pre.s_cop[:, 1, :]
+                target = self.velocity_reference[axis] if walking else 0.0
+                third.equal(
+                    a,
+                    target - pre.s_known[:, 1, :] @ np.array([c0[axis], dc0[axis]]),
+                    VELOCITY_WEIGHT,
+                    "com_velocity",
+                )
+        # eq. 16 (and 20): the swing foot
+        if phase.swing is not None:
+            self._swing_rows(first, third, terms, phase, anchor)
+        return anchor
+
+    def _swing_rows(self, first, third, terms, phase, current) -> None:
+        """Eq. 16: the swing sole's acceleration from cubics through the next footstep
+        (horizontal) and to the apex, then the ground (vertical, ours), with its orientation
+        held flat; eq. 20: the horizontal jerk. The cubics' remaining time is floored at
+        `SWING_TIME_FLOOR_S`: their rows grow as 1 / t_f^2 (and t_f^3), and the paper's own
+        remedy for "violent position changes near the end of a step" is to penalise jerk or
+        block the adaptation near the ground."""
+        lay, n = self.layout, self.layout.size
+        frame = self.foot_frames[FEET.index(phase.swing)]
+        jacobian = terms.jacobian[frame]
+        position, rotation = terms.placement[frame]
+        linear = jacobian[:3]
+        v_now = self._velocities[frame]
+        rows = swing_cubic(phase.remaining_s, floor_s=SWING_TIME_FLOOR_S)
+        jerk_rows = swing_cubic(phase.remaining_s, floor_s=JERK_TIME_FLOOR_S)
+        if phase.remaining_s < ADAPTATION_BLOCK_S and self.last_step is not None:
+            # the paper's "straightforward workaround": no footstep change near the ground
+            a = np.zeros((2, n))
+            a[:, lay.step(1)] = np.eye(2)
+            first.equal(a, self.last_step, name="footstep_kept")
+        a = np.zeros((2, n))
+        a[:, lay.qdd] = linear[:2]
+        a[:, lay.step(1)] = -rows.acc_p * np.eye(2)
+        rhs = rows.acc_p * current + rows.acc_s0 * position[:2] + rows.acc_ds0 * v_now[:2]
+        first.equal(a, rhs - terms.drift[frame][:2], name="swing_xy")
+        # eq. 20: the swing jerk, linear in the footstep
+        a = np.zeros((2, n))
+        a[:, lay.step(1)] = jerk_rows.jerk_p * np.eye(2)
+        third.equal(
+            a,
+            -(
+                jerk_rows.jerk_p * current
+                + jerk_rows.jerk_s0 * position[:2]
+                + jerk_rows.jerk_ds0 * v_now[:2]
+            ),
+            JERK_WEIGHT,
+            "swing_jerk",
+        )
+        # the vertical profile (ours): to the apex by mid-swing, then down to the ground
+        single = self.schedule.single_s
+        elapsed = single - phase.remaining_s
+        if elapsed < single / 2:
+            target, remaining = self.ground + self.swing_height, single / 2 - elapsed
+        else:
+            target, remaining = self.ground, phase.remaining_s
+        vertical = swing_cubic(remaining, floor_s=SWING_TIME_FLOOR_S)
+        z_acc = (
+            vertical.acc_p * target + vertical.acc_s0 * position[2] + vertical.acc_ds0 * v_now[2]
+        )
+        a = np.zeros((1, n))
+        a[0, lay.qdd] = linear[2]
+        first.equal(a, z_acc - terms.drift[frame][2], name="swing_z")
+        # constant (flat) orientation, held with a PD against drift (ours)
+        error = pin.log3(rotation.T)  # log(R_ref R^T) with R_ref = I (the standing sole)
+        a = np.zeros((3, n))
+        a[:, lay.qdd] = jacobian[3:]
+        first.equal(
+            a,
+            SWING_ORIENTATION_KP * error
+            - SWING_ORIENTATION_KD * v_now[3:]
+            - terms.drift[frame][3:],
+            name="swing_rotation",
+        )
+
+    # ------------------------------------------------------------------ the plan
+    def _plan(self, t, x, terms, phase, anchor) -> CentroidalPlan:
+        lay = self.layout
+        weight = self.weight
+        n_limbs = len(self.limb_names)
+        wrenches = np.zeros((n_limbs, 6))
+        contacts = []
+        for i, foot in enumerate(FEET):
+            limb = self.limb_names.index(foot)
+            if foot != phase.swing:
+                contacts.append(foot)
+                wrenches[limb, :3] = weight * self.pyramid @ x[lay.force(i)]
+                wrenches[limb, 3:] = weight * x[lay.moment(i)]
+        cdd = x[lay.cdd]
+        com = terms.com_position
+        zmp = np.array([*(com[:2] - cdd / self.omega**2), self.ground])
+        # footsteps: P_j = current + sum d_i
+        footsteps = []
+        limb_position = np.array(
+            [
+                terms.placement[f][0] if f in terms.placement else np.zeros(3)
+                for f in self.limb_frames
+            ]
+        )
+        limb_orientation = np.tile([1.0, 0.0, 0.0, 0.0], (n_limbs, 1))
+        starting = self.schedule.starting(t)
+        if (self.schedule.walking and phase.step >= 0) or starting:
+            if starting:
+                foot = self.schedule.swing_of(0)
+                touchdown = self.schedule.walk_start + self.schedule.single_s
+            else:
+                foot = phase.swing if phase.swing is not None else other_foot(phase.stance)
+                touchdown = phase.touchdown_s
+                if touchdown is None:
+                    touchdown = t + phase.remaining_s + self.schedule.single_s
+            point = np.array(anchor, dtype=float)
+            for j in range(1, lay.steps + 1):
+                point = point + x[lay.step(j)]
+                footsteps.append(
+                    Footstep(
+                        foot,
+                        np.array([point[0], point[1], self.ground]),
+                        0.0,
+                        touchdown - self.schedule.single_s,
+                        touchdown,
+                        np.array([1.0, 0.0, 0.0, 0.0]),
+                    )
+                )
+                if j == 1 and phase.swing is not None:
+                    limb_position[self.limb_names.index(foot)] = footsteps[-1].position_world
+                foot = other_foot(foot)
+                touchdown += self.schedule.period_s
+        wrench = np.zeros(6)
+        wrench[:3] = wrenches[:, :3].sum(axis=0)  # approximate: for the record only
+        return CentroidalPlan(
+            com_reference_world=com.copy(),
+            com_planned_world=com.copy(),
+            com_velocity_planned_world=terms.com_velocity.copy(),
+            com_acceleration_planned_world=np.array([cdd[0], cdd[1], 0.0]),
+            base_orientation_planned_world=self.base_orientation_reference,
+            base_angular_velocity_planned_world=np.zeros(3),
+            wrench_planned_world=wrench,
+            wrench_projected_world=wrench,
+            zmp_planned_world=zmp,
+            contact_limbs=tuple(contacts),
+            limb_target_position_world=limb_position,
+            limb_target_orientation_world=limb_orientation,
+            timings_ns={},
+            footsteps=tuple(footsteps),
+            generalized_acceleration=x[lay.qdd].copy(),
+            contact_wrench_limb=wrenches,
+            solver_failures=self.solver_failures,
+        )
+
+
+register(
+    PlannerSpec(
+        "capturability_hierarchy",
+        CapturabilityHierarchyPlanner,
+        "Sherikov et al. 2014: whole-body inverse dynamics with K-step capturability (3 levels)",
+        pairs_with=("passthrough",),
+    )
+)

@@ -1,0 +1,71 @@
+"""The fixed step timing of the capturability hierarchy (Sherikov et al. Sec. III): phases
+and the support of each preview sample, worked out by hand for 0.7 s + 0.1 s steps."""
+
+import math
+
+import numpy as np
+import pytest
+
+from planners.step_schedule import StepSchedule
+
+
+def test_standing_is_double_support_without_end():
+    schedule = StepSchedule()
+    phase = schedule.phase(3.0)
+    assert phase.swing is None
+    assert phase.stance is None
+    assert phase.remaining_s == math.inf
+    assert not schedule.sample_supports(3.0, 0.1, 16).any()
+
+
+def test_phases_of_a_walk():
+    schedule = StepSchedule(0.7, 0.1)
+    schedule.start(1.0, "right_foot")
+    single = schedule.phase(1.35)  # step 0's single support: the right foot swings
+    assert (single.swing, single.stance, single.step) == ("right_foot", "left_foot", 0)
+    assert single.touchdown_s == pytest.approx(1.7)
+    assert single.remaining_s == pytest.approx(0.35)
+    double = schedule.phase(1.75)  # after its touchdown: the right foot is the next stance
+    assert (double.swing, double.stance, double.step) == (None, "right_foot", 0)
+    assert double.remaining_s == pytest.approx(0.05)
+    assert schedule.phase(1.85).swing == "left_foot"  # step 1
+
+
+def test_preview_samples_belong_to_the_foothold_that_carries_the_robot():
+    """From t = 1.35 (step 0's single support), samples at 1.45 ... 2.95: before the touchdown
+    at 1.7 the stance foot (0), then the landed foot through step 1's single support (1),
+    after step 1's touchdown at 2.5 the next footstep (2)."""
+    schedule = StepSchedule(0.7, 0.1)
+    schedule.start(1.0, "right_foot")
+    supports = schedule.sample_supports(1.35, 0.1, 16)
+    expected = np.array([0] * 3 + [1] * 8 + [2] * 5)
+    np.testing.assert_array_equal(supports, expected)
+    # in the double support after a touchdown the landed foot is the current foothold
+    supports = schedule.sample_supports(1.75, 0.1, 16)
+    np.testing.assert_array_equal(supports, [0] * 7 + [1] * 8 + [2])
+
+
+def test_a_walk_of_two_steps_ends_standing():
+    schedule = StepSchedule(0.7, 0.1)
+    schedule.start(1.0, "left_foot", steps=2)
+    assert schedule.phase(2.35).swing == "right_foot"  # step 1 swings the other foot
+    assert schedule.phase(2.65).step == -1  # standing after 2 x 0.8 s
+    assert schedule.sample_supports(2.65, 0.1, 4).tolist() == [0, 0, 0, 0]
+
+
+def test_bad_timing_is_refused():
+    with pytest.raises(ValueError, match="positive"):
+        StepSchedule(0.0, 0.1)
+    with pytest.raises(ValueError, match="first swing"):
+        StepSchedule().start(0.0, "left_hand")
+
+
+def test_before_a_walk_starts_the_preview_sees_its_steps():
+    """Standing at 0.95 with a walk from 1.0: samples before 1.0 on both feet (0), then the
+    first step's stance foot (0) until its touchdown at 1.7, then footstep 1, and 2 after 2.5."""
+    schedule = StepSchedule(0.7, 0.1)
+    schedule.start(1.0, "left_foot")
+    assert schedule.starting(0.95)
+    assert schedule.phase(0.95).step == -1
+    supports = schedule.sample_supports(0.95, 0.1, 16)
+    np.testing.assert_array_equal(supports, [0] * 7 + [1] * 8 + [2])
