@@ -103,6 +103,9 @@ ROW_SCHEMA = pa.schema(
         ("touchdown_time_error_max_s", _FLOAT),
         ("touchdown_position_error_max_m", _FLOAT),
         ("final_yaw_error_rad", _FLOAT),
+        ("hand_error_final_m", _FLOAT),
+        ("solver_iterations_mean", _FLOAT),
+        ("solver_iterations_max", _FLOAT),
         ("e_com", _FLOAT),
         ("e_zmp", _FLOAT),
         ("e_velocity", _FLOAT),
@@ -165,6 +168,7 @@ def summary_row(
         "touchdown_time_error_max_s",
         "touchdown_position_error_max_m",
         "final_yaw_error_rad",
+        "hand_error_final_m",
         "git_commit",
         "cpu",
         "worker",
@@ -172,6 +176,9 @@ def summary_row(
         if key in summary:
             row[key] = summary[key]
     row.update(summary.get("projection_error") or {})
+    iterations = summary.get("solver_iterations") or {}
+    row["solver_iterations_mean"] = iterations.get("mean")
+    row["solver_iterations_max"] = iterations.get("max")
     for stage, values in (summary.get("latency_us") or {}).items():
         if stage in LATENCY_STAGES:
             row[f"lat_{stage}_median_us"] = values["median"]

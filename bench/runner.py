@@ -5,6 +5,13 @@ estimator -> planner -> stabilizer -> whole-body layer -> simulator, each stage 
 `time.perf_counter_ns`. A stage that raises, an output with NaN, or a simulator error ends the
 episode with status "error" and the message; a fall ends it with status "fell" and the fall
 time. The runner itself never raises for these: the trace up to that point is kept.
+
+Ground truth, for the record only (no controller sees it): the centre of mass (`com_true_*`)
+and, in scenarios with hand targets (`Scenario.hand_targets`, `hand_error_limb`), the hand
+error `hand_error_m` [m], the distance from that limb's contact frame (the palm) to its target
+active at the period's start (NaN while none is; no column in scenarios without targets),
+from the same forward-kinematics pass as the centre of mass. `hand_error_final_m` in the
+summary is the last period's (None without targets, or with none active at the end).
 """
 
 from __future__ import annotations
@@ -32,6 +39,7 @@ from estimators.base import DEFAULT_ESTIMATOR, make_estimator
 from planners.base import planner_spec
 from robots.humanoid import humanoid
 from robots.model import RobotModel, cached_model
+from robots.scene import Scenario
 from robots.types import CentroidalPlan, JointCommand, WholeBodyTargets
 from sims.base import clear_backend_caches, make_simulator
 from stabilizers.base import stabilizer_spec
@@ -175,6 +183,7 @@ def _latency(trace: pd.DataFrame) -> dict[str, dict[str, float]]:
             values = values[~np.isnan(values)]
             if len(values):
                 result[column[2:-3]] = {
+                    "mean": float(values.mean()),
                     "median": float(np.median(values)),
                     "p99": float(np.percentile(values, 99)),
                     "max": float(values.max()),
@@ -232,6 +241,7 @@ def run_episode(spec: EpisodeSpec, progress: MutableSequence[float] | None = Non
         "touchdown_time_error_max_s": None,
         "touchdown_position_error_max_m": None,
         "final_yaw_error_rad": None,
+        "hand_error_final_m": None,
     }
     trace = _Trace(0, ())
     sim = None
@@ -253,6 +263,8 @@ def run_episode(spec: EpisodeSpec, progress: MutableSequence[float] | None = Non
         )
         scene = scenario.scene
         summary.update(friction=scene.friction, mass_kg=robot.total_mass)
+        hand_limb = hand_error_limb(scenario)
+        hand_frame = None if hand_limb is None else robot.limb(hand_limb).contact_frame
         dt = scene.control_dt
         planner = planner_spec(spec.planner).factory(dt)
         stabilizer = stabilizer_spec(spec.stabilizer).factory(dt)
@@ -303,7 +315,14 @@ def run_episode(spec: EpisodeSpec, progress: MutableSequence[float] | None = Non
             state = estimator.estimate(sensors)
             timings["estimator"] = time.perf_counter_ns() - start
             _check_finite("estimator", state.base_position_world, state.com_position_world)
-            com_true = model.com_state_world(sensors.ground_truth())  # for the record only
+            true_state = sensors.ground_truth()  # for the record only
+            if hand_frame is None:
+                com_true = model.com_state_world(true_state)
+            else:  # the palm from the same forward-kinematics pass
+                com, com_velocity, hand_true = model.com_state_and_frame_position_world(
+                    true_state, hand_frame
+                )
+                com_true = (com, com_velocity)
             stage = "planner"
             progress[0] = 2.0
             start = time.perf_counter_ns()
@@ -337,6 +356,12 @@ def run_episode(spec: EpisodeSpec, progress: MutableSequence[float] | None = Non
             trace.put_vector("com_true", com_true[0])
             trace.put_vector("com_velocity_true", com_true[1])
             trace.put("zmp_margin_m", support.margin(plan))
+            if hand_frame is not None:
+                target = scenario.hand_target_at(hand_limb, t)
+                trace.put(
+                    "hand_error_m",
+                    math.nan if target is None else math.dist(hand_true, target),
+                )
             trace.n += 1
             reason = sim.fall_reason()
             if reason is not None:
@@ -374,6 +399,16 @@ def run_episode(spec: EpisodeSpec, progress: MutableSequence[float] | None = Non
     if len(frame):
         summary["projection_error"] = _projection_error(frame)
         summary["zmp_margin_min_m"] = float(frame["zmp_margin_m"].min())
+    if "solver_iterations" in frame and len(frame):
+        iterations = frame["solver_iterations"].to_numpy()
+        summary["solver_iterations"] = {
+            "mean": float(iterations.mean()),
+            "p99": float(np.percentile(iterations, 99)),
+            "max": float(iterations.max()),
+        }
+    if "hand_error_m" in frame and len(frame):
+        last = float(frame["hand_error_m"].iloc[-1])
+        summary["hand_error_final_m"] = last if math.isfinite(last) else None
     footsteps = compare_with_plan(recorder.table(), planned_steps.table())
     summary.update(
         footstep_summary(footsteps, com_true_start, com_true_end, scenario.goal_offset_world)
@@ -385,6 +420,16 @@ def run_episode(spec: EpisodeSpec, progress: MutableSequence[float] | None = Non
         )
     summary.update(provenance())
     return EpisodeResult(summary, frame, footsteps)
+
+
+def hand_error_limb(scenario: Scenario) -> str | None:
+    """The limb whose hand error an episode records: the right hand if it has targets (when
+    several limbs have, as in Sherikov et al. 2014's tests, which drive the right hand), else
+    the limb of the first target listed; None for a scenario without hand targets."""
+    limbs = [target.limb for target in scenario.hand_targets]
+    if not limbs:
+        return None
+    return "right_hand" if "right_hand" in limbs else limbs[0]
 
 
 def _sole_pose(model: RobotModel, sim, limb: str) -> tuple[np.ndarray, float]:
@@ -483,6 +528,8 @@ def _record(
     if targets.wrench_desired_world is not None:
         vector("wrench_desired", targets.wrench_desired_world, AXES)
         vector("wrench_distributed", targets.wrench_distributed_world, AXES)
+    if plan.solver_iterations is not None:
+        put("solver_iterations", plan.solver_iterations)
     column = trace.timing_column
     control = 0
     for name, ns in timings.items():

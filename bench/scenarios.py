@@ -14,6 +14,11 @@
 - `walk_side`: 10 steps to the left, 0.05 m each, left foot first (`WALK_SIDE_GAIT`).
 - `walk_turn`: 10 steps turning left by 10 deg each (90 deg in all) while advancing 0.05 m per
   step, left foot first (`WALK_TURN_GAIT`).
+- `reach`: Sherikov, Dimitrov & Wieber 2014, Sec. VII-B, Test 1 (reaching an object): standing
+  start, 12 s, the right palm's target out of reach at first and moved twice (`REACH_TARGETS`);
+  the robot must walk to it. Judged by the hand error (`bench.runner`, `hand_error_m`).
+- `reach_push`: the same, Sec. VII-C, Test 2: plus two 15 N s pushes to the torso, from the
+  right at 2.5 s and from the front at 7 s (`REACH_PUSHES`).
 
 Walks are built from a `GaitCommand` (forward and lateral step length or speed, turn per step
 or yaw rate, step width, step period, double-support ratio, swing height, steps, standing time
@@ -33,7 +38,7 @@ from centroidal.rotations import heading_quaternion
 from robots.gait import GAIT_STEPS, GaitCommand
 from robots.model import RobotModel
 from robots.registry import FLAT_GROUND
-from robots.scene import Contact, ContactPhase, PushEvent, Scenario, Scene
+from robots.scene import Contact, ContactPhase, HandTarget, PushEvent, Scenario, Scene
 
 WALK_STEPS = GAIT_STEPS  # steps of `walk` (and so the single-support phases `walk_push` pushes)
 
@@ -67,6 +72,13 @@ def stand(model: RobotModel, duration: float = 10.0, **_: object) -> Scenario:
     )
 
 
+def _horizontal_impulse(impulse: float, direction_deg: float) -> tuple[float, float, float]:
+    """[N s] of magnitude `impulse`, horizontal, towards `direction_deg` [deg] (0 = +x,
+    forward; 90 = +y, left), as every push of the scenarios is given."""
+    angle = np.deg2rad(direction_deg)
+    return (float(impulse * np.cos(angle)), float(impulse * np.sin(angle)), 0.0)
+
+
 def stand_push(
     model: RobotModel,
     duration: float = 10.0,
@@ -75,8 +87,7 @@ def stand_push(
     push_time: float = 2.0,
     push_duration: float = 0.1,
 ) -> Scenario:
-    angle = np.deg2rad(push_direction_deg)
-    impulse = (push_impulse * np.cos(angle), push_impulse * np.sin(angle), 0.0)
+    impulse = _horizontal_impulse(push_impulse, push_direction_deg)
     base = stand(model, duration)
     push = PushEvent(push_time, model.robot.base_link, impulse, push_duration)
     return Scenario("stand_push", duration, base.scene, base.phases, base.initial_posture, (push,))
@@ -86,6 +97,71 @@ DEFAULT_GAIT = GaitCommand()
 WALK_SIDE_GAIT = GaitCommand(step_length=0.0, lateral_step=0.05)
 WALK_TURN_GAIT = GaitCommand(step_length=0.05, turn=float(np.deg2rad(10.0)))
 """`walk_turn`: 10 steps turning left by 10 deg each while advancing 0.05 m (90 deg in all)."""
+
+
+REACH_DURATION = 12.0  # [s]
+REACH_LIMB = "right_hand"
+REACH_TARGETS: tuple[tuple[float, tuple[float, float, float]], ...] = (
+    (0.0, (0.5, -0.1, 0.05)),
+    (4.0, (0.8, -0.1, 0.05)),
+    (8.0, (0.8, -0.4, 0.05)),
+)
+"""`reach`'s right-hand targets: (from time [s], offset [m] at scale 1 from the right palm's
+position in the standing posture, world axes). Sherikov et al. 2014, Sec. VII-B prints no
+positions (only their Fig. 4 plots them), so these are ours, after its text: the target is
+"initially unreachable" (0.5 m ahead: 0.70 m from the shoulder, the arm reaching 0.48 m), the
+robot walks "until the target is reached, around 4 (s). However, due to a change in the x
+position of the target, the walk is resumed" (0.3 m further forward at 4 s), and "the
+lateral motion of the target also influences the walk" (0.3 m further right at 8 s, when the
+text's second footstep modification happens: "around 4 (s) and 8 (s)")."""
+REACH_PUSHES: tuple[tuple[float, float, float], ...] = ((2.5, 15.0, 90.0), (7.0, 15.0, 180.0))
+"""`reach_push`'s pushes to the torso: (time [s], impulse [N s], direction [deg], 0 = +x and
+90 = +y), Sherikov et al. 2014, Sec. VII-C: "Disturbances of 15 Ns are applied to the robot
+at 2.5 (s) from the right, forcing the robot to make a step to the left, and at 7 (s) from the
+front, forcing the robot to make a step backward". The paper's disturbances are instantaneous
+impacts (a velocity jump, eq. 23); here, as every push of the bench, the impulse is spread
+over `REACH_PUSH_DURATION`. As printed (the paper's HRP-2 weighs 58 kg, as our humanoid at
+scale 1): not scaled with the robot, like `stand_push`'s and `walk_push`'s impulses."""
+REACH_PUSH_DURATION = 0.1  # [s]
+REACH_PASS_HAND_ERROR_M = 0.02
+"""`reach` and `reach_push` are passed with a final hand error (`hand_error_final_m`) under
+this [m] and no fall."""
+
+
+def reach(model: RobotModel, duration: float = REACH_DURATION, **_: object) -> Scenario:
+    """Sherikov et al. 2014, Test 1: standing in double support on flat ground (as `stand`),
+    with the right palm's targets `REACH_TARGETS`, offsets scaled with the robot, from the
+    palm's position in `model.standing_state()` (forward kinematics). No contact sequence
+    beyond standing: a controller must choose its own steps to get there (a fixed-schedule
+    one stands, and its hand error says how far it stays). Passed (by a controller of the
+    paper's kind): final hand error under `REACH_PASS_HAND_ERROR_M` (2 cm), and no fall."""
+    palm = model.robot.limb(REACH_LIMB).contact_frame
+    standing = model.frame_positions_world(model.standing_state(), [palm])[0]
+    scale = model.robot.scale
+    targets = tuple(
+        HandTarget(
+            REACH_LIMB,
+            time,
+            tuple(float(v) for v in standing + scale * np.array(offset)),
+        )
+        for time, offset in REACH_TARGETS
+    )
+    return replace(stand(model, duration), name="reach", hand_targets=targets)
+
+
+def reach_push(model: RobotModel, duration: float = REACH_DURATION, **_: object) -> Scenario:
+    """Sherikov et al. 2014, Test 2: `reach` with the pushes `REACH_PUSHES` to the torso (the
+    base link), each over `REACH_PUSH_DURATION` [s]."""
+    pushes = tuple(
+        PushEvent(
+            time,
+            model.robot.base_link,
+            _horizontal_impulse(impulse, direction),
+            REACH_PUSH_DURATION,
+        )
+        for time, impulse, direction in REACH_PUSHES
+    )
+    return replace(reach(model, duration), name="reach_push", pushes=pushes)
 
 
 def walk(
@@ -212,8 +288,7 @@ def walk_push(
         raise ValueError(f"push_step must be 1..{len(single)} (the walk's steps), got {push_step}")
     phase = single[push_step - 1]
     mid = (phase.start + phase.end) / 2
-    angle = np.deg2rad(push_direction_deg)
-    impulse = (push_impulse * np.cos(angle), push_impulse * np.sin(angle), 0.0)
+    impulse = _horizontal_impulse(push_impulse, push_direction_deg)
     push = PushEvent(mid - push_duration / 2, model.robot.base_link, impulse, push_duration)
     return Scenario(
         "walk_push",
@@ -243,6 +318,16 @@ SCENARIOS: dict[str, ScenarioSpec] = {
     ),
     "walk_turn": ScenarioSpec(
         "walk_turn", walk_turn, "10 steps turning left 10 deg each (90 deg), 0.05 m forward"
+    ),
+    "reach": ScenarioSpec(
+        "reach",
+        reach,
+        "Sherikov 2014 Test 1: right hand to a target 0.5 m ahead, moved at 4 s and 8 s, 12 s",
+    ),
+    "reach_push": ScenarioSpec(
+        "reach_push",
+        reach_push,
+        "Sherikov 2014 Test 2: reach, pushed 15 N s for 0.1 s at 2.5 s (to +y), 7 s (to -x)",
     ),
 }
 WALKS_WITH_SPEED = ("walk", "walk_push")  # the scenarios whose forward speed can be set

@@ -48,6 +48,7 @@ from robots.scene import Scenario
 from robots.types import CentroidalPlan, Footstep, RobotState
 
 GRAVITY = 9.81
+HAND = "right_hand"  # the hand of eq. 17 (the paper drives the right hand)
 PREVIEW_INTERVALS = 16  # N: two steps of 0.8 s at 100 ms (Sec. VII)
 PREVIEW_PERIOD_S = 0.1
 FOOTSTEPS = 2  # K
@@ -56,15 +57,15 @@ JOINT_LIMIT_HORIZON_S = 0.1  # T of eq. 9 (ours)
 STEP_LENGTH_MAX_M = 0.3  # eq. 12's rectangle: +-0.3 m forward (ours, at scale 1)
 STEP_WIDTH_EXTRA_M = (-0.05, 0.2)  # lateral: the standing width -0.05 ... +0.2 m (ours)
 # objectives (level 3), weights on squared residuals, and gains (ours: the paper gives none)
-POSTURE_KP, POSTURE_KD, POSTURE_WEIGHT = 10.0, 2 * math.sqrt(10.0), 1e-2  # eq. 19 [1/s^2, 1/s]
+POSTURE_KP, POSTURE_KD, POSTURE_WEIGHT = 10.0, 2 * math.sqrt(10.0), 0.1  # eq. 19 [1/s^2, 1/s]
 TORSO_KP, TORSO_KD, TORSO_WEIGHT = 100.0, 20.0, 1.0  # eq. 18
 HAND_KP, HAND_KD, HAND_ERROR_MAX, HAND_WEIGHT = 10.0, 2 * math.sqrt(10.0), 0.1, 1.0  # eq. 17
 COP_WEIGHT = 10.0  # eq. 21 [per m^2]
-COP_VELOCITY_WEIGHT = 1e-2  # eq. 22 [per (m/s)^2]
-JERK_WEIGHT = 1e-2  # eq. 20 [per (m/s^3)^2]
-JERK_TIME_FLOOR_S = 0.1  # [s] eq. 20's remaining time no shorter (row norms within 1e4)
+COP_VELOCITY_WEIGHT = 1.0  # eq. 22
+JERK_WEIGHT = 10.0  # eq. 20
+JERK_TIME_FLOOR_S = 0.2  # [s] eq. 20's remaining time no shorter (row norms within 2e3)
 ADAPTATION_BLOCK_S = 0.1  # [s] the footstep is kept in the last 0.1 s of a swing (ours)
-VELOCITY_WEIGHT = 1.0
+VELOCITY_WEIGHT = 100.0  # CoM velocity objective (ours, after [3])
 HEIGHT_KP, HEIGHT_KD, HEIGHT_WEIGHT = (
     100.0,
     20.0,
@@ -75,6 +76,7 @@ SWING_TIME_FLOOR_S = 0.05  # [s] the cubics' remaining time no shorter (ours: se
 CONTACT_DAMPING = 20.0  # [1/s] eq. 8 as J q'' + J' q' = -K J q' (ours, see _levels)
 SOLE_MARGIN_M = 0.02  # [m] eqs. 7, 11 keep the CoP this far inside the sole's edges (ours)
 MIN_NORMAL_FORCE = 0.05  # a contact sole's least normal force, in units of m g (ours)
+FIRST_STEP_AFTER_S = 1.0  # [s] double support before a reach's first step (ours, as walks)
 STEP_TRIGGER_M = 0.05  # [m] capture point off the feet's middle that makes it step (ours)
 STOP_MARGIN_M, STOP_SPEED = 0.02, 0.1  # a push-started walk stops when capture point is inside
 
@@ -147,25 +149,22 @@ class _Rows:
         self.names.extend([name] * a.shape[0])
         lower = np.broadcast_to(np.asarray(lower, dtype=float), a.shape[:1])
         upper = np.broadcast_to(np.asarray(upper, dtype=float), a.shape[:1])
-        scale = math.sqrt(weight)
+        # each block scaled to a largest row norm of one, then weighted: the rows' norms
+        # within a level stay near the weights' ratio (DAQP's accuracy and speed fall with
+        # that ratio: centroidal.hierarchy); a block keeps its rows' relative weights
+        largest = float(np.linalg.norm(a, axis=1).max()) if a.size else 0.0
+        scale = math.sqrt(weight) / (largest if largest > 0.0 else 1.0)
         self.blocks.append((a * scale, lower * scale, upper * scale))
 
     def equal(self, a: np.ndarray, value, weight: float = 1.0, name: str = "") -> None:
         self.add(a, value, value, weight, name)
 
-    def level(self, name: str, normalise: bool = False) -> Level:
-        """The level's rows; `normalise` scales each row to unit norm, so that the violation
-        of an infeasible level is measured in each row's own units (as DAQP weights rows
-        natively) and the rows' norms stay within the solver's accepted ratio."""
+    def level(self, name: str) -> Level:
         if not self.blocks:
             return Level(np.zeros((0, self.n)), np.zeros(0), np.zeros(0), name)
         a = np.vstack([b[0] for b in self.blocks])
         lower = np.concatenate([b[1] for b in self.blocks])
         upper = np.concatenate([b[2] for b in self.blocks])
-        if normalise:
-            norms = np.linalg.norm(a, axis=1)
-            norms[norms == 0.0] = 1.0
-            a, lower, upper = a / norms[:, None], lower / norms, upper / norms
         return Level(a, lower, upper, name)
 
 
@@ -185,7 +184,7 @@ class CapturabilityHierarchyPlanner:
         self.limb_names = description.limb_names
         limbs = {limb.name: limb for limb in description.limbs}
         self.foot_frames = [robot.frame_id[limbs[f].contact_frame] for f in FEET]
-        self.hand_frame = robot.frame_id[limbs["right_hand"].contact_frame]
+        self.hand_frame = robot.frame_id[limbs[HAND].contact_frame]
         self.base_frame = robot.frame_id[description.base_link]
         self.limb_frames = [robot.frame_id[limb.contact_frame] for limb in description.limbs]
         self.half_extents = np.array(limbs[FEET[0]].half_extents[:2], dtype=float)
@@ -233,7 +232,13 @@ class CapturabilityHierarchyPlanner:
                 max(1, round(duration / self.schedule.period_s)),
             )
             self.swing_height = gait.swing_height * self.scale
+        self.scenario = scenario
         self.hand_target = None
+        if scenario.hand_targets and not self.schedule.walking:
+            # the paper's robot walks from the start, in place when nothing drives it (Sec.
+            # VII-B: "exclusion of (17) from the hierarchy results in walking in place")
+            first = min(target.time for target in scenario.hand_targets)
+            self.schedule.start(first + FIRST_STEP_AFTER_S * math.sqrt(self.scale), FEET[1])
         self.warm = None
         self.last_phase = self.schedule.phase(0.0)
         self.swing_start: np.ndarray | None = None
@@ -252,6 +257,7 @@ class CapturabilityHierarchyPlanner:
         self._velocities = {f: terms.jacobian[f] @ v for f in frames}
         phase = self._advance(t, terms)
         self._t = t
+        self.hand_target = self.scenario.hand_target_at(HAND, t)  # eq. 17's target, if any
         terms_ns = time.perf_counter_ns()
         levels, context = self._levels(t, q, v, terms, phase)
         build_ns = time.perf_counter_ns()
@@ -281,7 +287,7 @@ class CapturabilityHierarchyPlanner:
             "plan": time.perf_counter_ns() - solve_ns,
         }
         object.__setattr__(plan, "timings_ns", timings)
-        self.iterations = solution.iterations
+        object.__setattr__(plan, "solver_iterations", solution.iterations)
         return plan
 
     def _advance(self, t: float, terms: WholeBodyTerms):
@@ -416,8 +422,8 @@ class CapturabilityHierarchyPlanner:
         )
         self.row_names = (first.names, second.names, third.names)
         levels = [
-            first.level("constraints", normalise=True),
-            second.level("capturability", normalise=True),
+            first.level("constraints"),
+            second.level("capturability"),
             third.level("objectives"),
         ]
         return levels, context
@@ -479,6 +485,11 @@ class CapturabilityHierarchyPlanner:
             next_foot = phase.swing if phase.swing is not None else other_foot(phase.stance)
             feet_next = [next_foot, other_foot(next_foot)][: lay.steps]
         foot_box = (-self.cop_extents, self.cop_extents)
+
+        def box_about(point: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+            """The both-feet box as bounds about `point`."""
+            return box[0] + current - point, box[1] + current - point
+
         # eq. 12: the rectangles (bounds on the displacements); standing: no footstep
         length = STEP_LENGTH_MAX_M * self.scale
         w_low = self.standing_width + STEP_WIDTH_EXTRA_M[0] * self.scale
@@ -506,12 +517,17 @@ class CapturabilityHierarchyPlanner:
                 name="cop_now",
             )
             for k in range(lay.samples):
-                j = int(supports[k])
+                j = min(int(supports[k]), lay.steps)  # the K-th foothold after K landings
                 a = np.zeros(n)
                 a[cop.start + k] = 1.0
                 for i in range(1, j + 1):
                     a[lay.step(i).start + axis] = -1.0
                 centre, bounds = (current, box) if j == 0 else (anchor, foot_box)
+                if starting and j == 0:
+                    # before the first step: on both feet, centred on the first stance foot
+                    # (the weight shift); after its lift-off, on the stance foot alone
+                    lift_off = self._t + (k + 1) * self.period_s >= self.schedule.walk_start
+                    centre, bounds = (anchor, foot_box) if lift_off else (anchor, box_about(anchor))
                 # eq. 11: z_k - p_j inside the sole (both feet while standing)
                 first.add(
                     a,

@@ -80,6 +80,17 @@ class RobotModel:
         com = pin.centerOfMass(self.model, self.data, q, self.velocity(state, q))
         return com.copy(), self.data.vcom[0].copy()
 
+    def com_state_and_frame_position_world(
+        self, state: RobotState, name: str
+    ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """Centre of mass [m], its velocity [m/s] and the position [m] of the named frame in
+        the world, from the one forward-kinematics pass of `com_state_world` (the centre-of-mass
+        pass places every joint; the frame is placed from its parent joint, no second pass)."""
+        q = self.configuration(state)
+        com = pin.centerOfMass(self.model, self.data, q, self.velocity(state, q))
+        placement = pin.updateFramePlacement(self.model, self.data, self.frame_id[name])
+        return com.copy(), self.data.vcom[0].copy(), placement.translation.copy()
+
     def com_velocity_world(self, state: RobotState) -> np.ndarray:
         """Centre-of-mass velocity [m/s]."""
         pin.centerOfMass(self.model, self.data, self.configuration(state), self.velocity(state))

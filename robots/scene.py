@@ -92,10 +92,21 @@ class PushEvent:
 
 
 @dataclass(frozen=True)
+class HandTarget:
+    """A task target for a limb (a hand reaching for an object, Sherikov et al. 2014 eq. 17):
+    `limb`'s contact frame (the palm centre) should be at `position_world` [m] from `time`
+    [s] on, until the limb's next target. Not a contact: nothing holds the hand there."""
+
+    limb: str
+    time: float
+    position_world: tuple[float, float, float]
+
+
+@dataclass(frozen=True)
 class Scenario:
     """One experiment, as data: the scene, the contact sequence (phases cover [0, duration]),
     the pushes, the initial joint posture [rad] (the base is placed so the soles are on the
-    ground) and the duration [s]."""
+    ground), the duration [s] and the limbs' task targets (`hand_targets`)."""
 
     name: str
     duration: float
@@ -113,6 +124,35 @@ class Scenario:
     gait: GaitCommand | None = None
     """The gait command a walk was built from (`robots.gait`), for planners that choose
     their own footsteps; None: no walk."""
+    hand_targets: tuple[HandTarget, ...] = ()
+    """Where limbs' contact frames should be, from given times on (`hand_target_at`); empty:
+    no task target."""
+
+    @functools.cached_property
+    def _hand_timeline(self) -> dict[str, tuple[list[float], list[np.ndarray]]]:
+        """Per limb, its targets' times in increasing order and their positions [m] (a stable
+        sort: of two targets at the same time, the later listed wins), for bisection."""
+        per_limb: dict[str, list[HandTarget]] = {}
+        for target in sorted(self.hand_targets, key=lambda target: target.time):
+            per_limb.setdefault(target.limb, []).append(target)
+        return {
+            limb: (
+                [target.time for target in targets],
+                [np.array(target.position_world, dtype=float) for target in targets],
+            )
+            for limb, targets in per_limb.items()
+        }
+
+    def hand_target_at(self, limb: str, time: float) -> np.ndarray | None:
+        """The position [m] `limb`'s contact frame should be at, at `time` [s]: that of its last
+        target with `target.time <= time`; None before its first target, or if it has none.
+        Returns a fresh array (the caller may modify it)."""
+        timeline = self._hand_timeline.get(limb)
+        if timeline is None:
+            return None
+        times, positions = timeline
+        i = bisect.bisect_right(times, time) - 1
+        return positions[i].copy() if i >= 0 else None
 
     @functools.cached_property
     def _timeline(self) -> tuple[list[float], dict[str, tuple[list[float], list]]] | None:

@@ -233,6 +233,8 @@ class CentroidalPlan:
     """(nv,) the whole-body accelerations a planner decided (pinocchio's convention: base
     linear and angular acceleration in the base frame, then joints) [m/s^2, rad/s^2], for
     planners that solve the whole body's dynamics (Sherikov et al.); None: not given."""
+    solver_iterations: int | None = None
+    """Active-set iterations of the planner's solver this period (None: no such solver)."""
     contact_wrench_limb: np.ndarray | None = None
     """(n_limbs, 6) contact wrenches such a planner decided: force [N] and moment [N m] of the
     environment on each limb, in its contact frame about its origin (zero off contact)."""

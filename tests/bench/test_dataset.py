@@ -22,3 +22,28 @@ def test_a_walking_push_that_ran_its_periods_is_survived(status, duration, survi
     labels = {"push_phase": "walking", "episode_id": "x", "controller": "c"}
     row = summary_row(labels, {"status": status, "duration": duration}, None, 6.2325, 1.0)
     assert row["survived"] is survived
+
+
+def test_every_scalar_summary_field_reaches_its_typed_column():
+    """Each field of the runner's summary that is not a table of its own (latency, projection
+    error, versions: flattened into other columns) is a `ROW_SCHEMA` column with a dtype, and
+    the row holds its value; here for `reach`, whose hand error (0.51 m: the target starts
+    0.5 m ahead of the palm) must not be dropped on the way to the result file."""
+    import pyarrow as pa
+
+    from bench.dataset import ROW_SCHEMA
+    from bench.runner import EpisodeSpec, run_episode, summary_json_ready
+
+    result = run_episode(EpisodeSpec("hold", "posture", "mujoco", "reach", duration=0.1))
+    summary = summary_json_ready(result.summary)
+    assert summary["status"] == "ok"
+    labels = {"episode_id": "x", "controller": "hold+posture"}
+    row = summary_row(labels, result.summary, result.trace, 0.1, 1.0)
+    table = pa.Table.from_pylist([row], schema=ROW_SCHEMA)
+    for key, value in summary.items():
+        if isinstance(value, dict):
+            continue
+        assert key in ROW_SCHEMA.names, key
+        assert table.column(key)[0].as_py() == value, key
+    assert table.schema.field("hand_error_final_m").type == pa.float64()
+    assert 0.5 < table.column("hand_error_final_m")[0].as_py() < 0.52

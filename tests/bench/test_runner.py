@@ -1,6 +1,7 @@
 """The control-loop runner: failures are data, the summary contract, and the minimal
 controllers standing and being pushed in both simulators."""
 
+import copy
 import json
 import subprocess
 import sys
@@ -246,3 +247,72 @@ def test_mujoco_warning_is_kept_off_stdout():
         [sys.executable, "-c", code], capture_output=True, text=True, timeout=300, check=True
     ).stdout
     assert json.loads(out)["status"] == "error"  # stdout is exactly the JSON document
+
+
+class _RecordingSim:
+    """A simulator that keeps a copy of the ground-truth state of every sensor reading it
+    returns (reset, then each step), and otherwise passes everything through."""
+
+    def __init__(self, sim) -> None:
+        self._sim = sim
+        self.states = []
+
+    def __getattr__(self, name):
+        return getattr(self._sim, name)
+
+    def _keep(self, sensors):
+        self.states.append(copy.deepcopy(sensors.ground_truth()))
+        return sensors
+
+    def reset(self, *args):
+        return self._keep(self._sim.reset(*args))
+
+    def step(self, command):
+        return self._keep(self._sim.step(command))
+
+
+def test_hand_error_is_the_true_palm_distance_to_the_target(monkeypatch):
+    """`reach` (Sherikov et al. 2014, Test 1) for 0.2 s, holding still: each period's
+    `hand_error_m` is the distance from the target to the right palm placed by forward
+    kinematics of the simulator's true state at that period's start (computed here by
+    `frame_pose`, from copies the simulator handed out); at t = 0 the robot stands as
+    `standing_state`, so it is the target's offset |(0.5, -0.1, 0.05)| m; held still, the palm
+    barely moves by 0.2 s; and the summary's final error is the last period's."""
+    import bench.runner as runner
+    from robots.humanoid import humanoid
+    from robots.model import cached_model
+
+    sims = []
+    make_simulator = runner.make_simulator
+
+    def recording(name):
+        sims.append(_RecordingSim(make_simulator(name)))
+        return sims[-1]
+
+    monkeypatch.setattr(runner, "make_simulator", recording)
+    result = run_episode(EpisodeSpec("hold", "posture", "mujoco", "reach", duration=0.2))
+    summary, trace = result.summary, result.trace
+    assert summary["status"] == "ok"
+    assert len(trace) == 100
+    error = trace["hand_error_m"].to_numpy()
+    assert np.isfinite(error).all()  # a target from t = 0 on
+    offset = float(np.linalg.norm([0.5, -0.1, 0.05]))
+    assert error[0] == pytest.approx(offset, abs=1e-6)
+    assert abs(error[-1] - offset) < 0.005
+    model = cached_model(humanoid())
+    scenario = runner.make_scenario("reach", model)
+    states = sims[0].states  # states[k]: what period k starts from (the last: after the end)
+    assert len(states) == len(trace) + 1
+    for k in (0, 50, len(trace) - 1):
+        palm = model.frame_pose(states[k], "right_palm")[0]
+        target = scenario.hand_target_at("right_hand", trace["time"].iloc[k])
+        assert error[k] == pytest.approx(np.linalg.norm(target - palm), abs=1e-12)
+    assert summary["hand_error_final_m"] == error[-1]
+
+
+def test_no_hand_error_without_hand_targets():
+    result = run_episode(EpisodeSpec("hold", "posture", "mujoco", "stand", duration=0.1))
+    assert result.summary["status"] == "ok"
+    assert "hand_error_m" not in result.trace
+    assert result.summary["hand_error_final_m"] is None
+    json.dumps(summary_json_ready(result.summary))

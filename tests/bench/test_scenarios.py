@@ -159,3 +159,91 @@ def test_walk_side_leads_with_the_left_foot_and_never_crosses(model):
 def test_speed_is_for_the_walks_only(model):
     with pytest.raises(ValueError, match="speed applies to walk, walk_push"):
         make_scenario("stand", model, speed=0.1)
+
+
+def _standing_palm(model) -> np.ndarray:
+    """The right palm [m] in the standing posture, by `frame_pose` (the scenarios use
+    `frame_positions_world`)."""
+    frame = model.robot.limb("right_hand").contact_frame
+    return model.frame_pose(model.standing_state(), frame)[0]
+
+
+# (time [s], the right palm's target offset [m] from the standing palm, world axes)
+REACH_EXPECTED = [
+    (0.0, (0.5, -0.1, 0.05)),  # 0.5 m ahead, 0.1 m right, 0.05 m up
+    (3.999, (0.5, -0.1, 0.05)),
+    (4.0, (0.8, -0.1, 0.05)),  # 0.3 m further forward
+    (7.999, (0.8, -0.1, 0.05)),
+    (8.0, (0.8, -0.4, 0.05)),  # 0.3 m further right
+    (12.0, (0.8, -0.4, 0.05)),
+]
+
+
+@pytest.mark.parametrize("name", ["reach", "reach_push"])
+def test_reach_targets_move_the_right_palm_as_sherikov_test_1(model, name):
+    """Sherikov et al. 2014 Tests 1 and 2: 12 s standing in double support (the controller
+    must choose its own steps), the right palm's target moved forward at 4 s and right at 8 s,
+    relative to where the palm is when standing."""
+    from bench.scenarios import SCENARIOS
+
+    scenario = make_scenario(name, model)
+    assert scenario.duration == 12.0
+    assert {t.limb for t in scenario.hand_targets} == {"right_hand"}
+    assert [t.time for t in scenario.hand_targets] == [0.0, 4.0, 8.0]
+    stand = make_scenario("stand", model, duration=12.0)
+    assert scenario.phases == stand.phases  # flat ground, both feet where they stand
+    assert scenario.scene == stand.scene
+    palm = _standing_palm(model)
+    for time, offset in REACH_EXPECTED:
+        target = scenario.hand_target_at("right_hand", time)
+        np.testing.assert_allclose(target - palm, offset, rtol=0, atol=1e-12)
+    assert scenario.hand_target_at("left_hand", 5.0) is None
+    spec = SCENARIOS[name]
+    assert spec.requires == frozenset({"flat_ground"})
+    assert ("Test 1" if name == "reach" else "Test 2") in spec.description
+
+
+def test_reach_target_is_out_of_the_arms_reach_at_first(model):
+    """Sherikov et al.: "The desired position of the hand is set to a point which is initially
+    unreachable": from the standing shoulder the first target is farther than the arm's
+    segments laid end to end (shoulder to elbow to palm), so the robot must step towards it."""
+    shoulder, elbow, palm = model.frame_positions_world(
+        model.standing_state(), ["right_shoulder_pitch", "right_elbow", "right_palm"]
+    )
+    arm = np.linalg.norm(elbow - shoulder) + np.linalg.norm(palm - elbow)
+    target = make_scenario("reach", model).hand_target_at("right_hand", 0.0)
+    assert np.linalg.norm(target - shoulder) > arm + 0.1
+
+
+def test_reach_push_pushes_from_the_right_then_from_the_front(model):
+    """Test 2: 15 N s to the torso at 2.5 s from the right (towards +y: a step to the left)
+    and at 7 s from the front (towards -x: a step back), each over 0.1 s; otherwise `reach`."""
+    scenario = make_scenario("reach_push", model)
+    reach = make_scenario("reach", model)
+    assert reach.pushes == ()
+    assert scenario.hand_targets == reach.hand_targets
+    first, second = scenario.pushes
+    for push, time, direction in ((first, 2.5, (0, 1, 0)), (second, 7.0, (-1, 0, 0))):
+        assert push.time == time
+        assert push.duration == 0.1
+        assert push.link == model.robot.base_link
+        assert np.linalg.norm(push.impulse_world) == pytest.approx(15.0, abs=1e-12)
+        np.testing.assert_allclose(push.impulse_world, 15.0 * np.array(direction), atol=1e-12)
+    # the same convention as `stand_push`'s direction in degrees
+    for push, degrees in ((first, 90.0), (second, 180.0)):
+        (same,) = make_scenario(
+            "stand_push", model, push_impulse=15.0, push_direction_deg=degrees
+        ).pushes
+        assert push.impulse_world == same.impulse_world
+
+
+def test_reach_offsets_scale_with_the_robot():
+    """At scale 0.5 the palm's target offsets are half the paper's (the times and the 15 N s
+    impulses as printed)."""
+    small = RobotModel(humanoid(0.5))
+    scenario = make_scenario("reach_push", small)
+    palm = _standing_palm(small)
+    for time, offset in REACH_EXPECTED:
+        target = scenario.hand_target_at("right_hand", time)
+        np.testing.assert_allclose(target - palm, 0.5 * np.array(offset), rtol=0, atol=1e-12)
+    assert [np.linalg.norm(p.impulse_world) for p in scenario.pushes] == pytest.approx([15, 15])

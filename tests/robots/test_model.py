@@ -28,17 +28,22 @@ def _link_poses(model, state):
     return poses
 
 
+def _random_joints(robot, rng, spread: float) -> np.ndarray:
+    """The nominal posture moved by up to +-spread [rad] per joint, inside the limits."""
+    return np.clip(
+        np.array(robot.nominal_posture) + rng.uniform(-spread, spread, robot.n_joints),
+        robot.array("lower"),
+        robot.array("upper"),
+    )
+
+
 def test_rigid_rotation_momentum_equals_sum_over_links(model):
     """Joints still, the whole robot spinning at omega about its base: the angular momentum
     about the CoM is sum_i (R_i I_i R_i^T omega + m_i r_i x (omega x r_i)), r_i from the CoM to
     link i's CoM, computed here from the description's link inertias."""
     robot = model.robot
     rng = np.random.default_rng(2)
-    joints = np.clip(
-        np.array(robot.nominal_posture) + rng.uniform(-0.4, 0.4, robot.n_joints),
-        robot.array("lower"),
-        robot.array("upper"),
-    )
+    joints = _random_joints(robot, rng, 0.4)
     quaternion = rng.normal(size=4)
     quaternion /= np.linalg.norm(quaternion)
     omega = np.array([0.3, -0.5, 0.8])
@@ -99,3 +104,31 @@ def test_frame_pose_orientation_matches_base_in_zero_posture(model):
     state = RobotState.at_rest(np.zeros(3), quaternion, np.zeros(robot.n_joints))
     _, rotation = model.frame_pose(state, "left_palm")
     np.testing.assert_allclose(rotation, to_matrix(quaternion), atol=1e-12)
+
+
+def test_com_state_and_frame_position_match_their_own_passes(model):
+    """The runner's one-pass ground truth (centre of mass, its velocity, a palm) equals the
+    separate passes, in a random posture and motion, even after the scratch data was left by
+    another state (the frame must be placed from this state's joints, not a stale pass)."""
+    robot = model.robot
+    rng = np.random.default_rng(5)
+    joints = _random_joints(robot, rng, 0.5)
+    quaternion = rng.normal(size=4)
+    state = RobotState(
+        rng.normal(size=3),
+        quaternion / np.linalg.norm(quaternion),
+        rng.normal(size=3),
+        rng.normal(size=3),
+        joints,
+        rng.normal(size=robot.n_joints),
+    )
+    model.frame_positions_world(model.standing_state(), ["right_palm"])  # stale scratch data
+    com, com_velocity, palm = model.com_state_and_frame_position_world(state, "right_palm")
+    expected_com, expected_velocity = model.com_state_world(state)
+    np.testing.assert_allclose(com, expected_com, rtol=0, atol=1e-12)
+    np.testing.assert_allclose(com_velocity, expected_velocity, rtol=0, atol=1e-12)
+    standing_palm = model.frame_positions_world(model.standing_state(), ["right_palm"])[0]
+    np.testing.assert_allclose(
+        palm, model.frame_positions_world(state, ["right_palm"])[0], rtol=0, atol=1e-12
+    )
+    assert np.linalg.norm(palm - standing_palm) > 0.1  # a different place: not stale
