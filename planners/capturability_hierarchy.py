@@ -57,9 +57,9 @@ JOINT_LIMIT_HORIZON_S = 0.1  # T of eq. 9 (ours)
 STEP_LENGTH_MAX_M = 0.3  # eq. 12's rectangle: +-0.3 m forward (ours, at scale 1)
 STEP_WIDTH_EXTRA_M = (-0.05, 0.2)  # lateral: the standing width -0.05 ... +0.2 m (ours)
 # objectives (level 3), weights on squared residuals, and gains (ours: the paper gives none)
-POSTURE_KP, POSTURE_KD, POSTURE_WEIGHT = 10.0, 2 * math.sqrt(10.0), 0.1  # eq. 19 [1/s^2, 1/s]
+POSTURE_KP, POSTURE_KD, POSTURE_WEIGHT = 10.0, 2 * math.sqrt(10.0), 1e-3  # eq. 19 [1/s^2, 1/s]
 TORSO_KP, TORSO_KD, TORSO_WEIGHT = 100.0, 20.0, 1.0  # eq. 18
-HAND_KP, HAND_KD, HAND_ERROR_MAX, HAND_WEIGHT = 10.0, 2 * math.sqrt(10.0), 0.1, 1.0  # eq. 17
+HAND_KP, HAND_KD, HAND_ERROR_MAX, HAND_WEIGHT = 10.0, 2 * math.sqrt(10.0), 0.05, 1.0  # eq. 17
 COP_WEIGHT = 10.0  # eq. 21 [per m^2]
 COP_VELOCITY_WEIGHT = 1.0  # eq. 22
 JERK_WEIGHT = 10.0  # eq. 20
