@@ -22,11 +22,18 @@ Levels (Sec. VI):
    objective for walking on a gait command.
 
 The paper's numbers used as printed: a preview of two steps of 0.8 s at 100 ms (N = 16, K = 2),
-fixed step timing with free footstep positions. What the paper leaves open, chosen here and
-named as constants below: the objectives' weights and gains, the joint-limit horizon T, the
+fixed step timing with free footstep positions (a gait command's own step period is not
+used: its speed is the velocity objective's reference, and its number of steps becomes as many
+0.8 s steps as fit in its duration). What the paper leaves open, chosen here and named as
+constants below: the objectives' weights and gains, the joint-limit horizon T, the
 torsional friction coefficient, the footstep rectangles, the swing's vertical profile, the
 split of a step into 0.7 s single and 0.1 s double support (Herdt et al.'s), and when a
-standing robot starts to step (ours: when level 2 cannot be met standing).
+standing robot starts to step (ours: its capture point 5 cm off the feet's middle; the paper's
+robot walks all the time), and, to make it stand and step on our robot in a simulator (each
+measured, README): the current CoP z_0 bounded too, a 2 cm margin inside the soles, a least
+load on every contact sole, contact-velocity damping in eq. 8, a CoM-height objective, the
+swing's orientation held by a PD, the footstep kept in the last 0.1 s of a swing, and the
+"both feet" support as the box around both soles (exact for feet side by side).
 """
 
 from __future__ import annotations
@@ -56,21 +63,20 @@ SINGLE_SUPPORT_S, DOUBLE_SUPPORT_S = 0.7, 0.1  # one step of 0.8 s (Herdt et al.
 JOINT_LIMIT_HORIZON_S = 0.1  # T of eq. 9 (ours)
 STEP_LENGTH_MAX_M = 0.3  # eq. 12's rectangle: +-0.3 m forward (ours, at scale 1)
 STEP_WIDTH_EXTRA_M = (-0.05, 0.2)  # lateral: the standing width -0.05 ... +0.2 m (ours)
-# objectives (level 3), weights on squared residuals, and gains (ours: the paper gives none)
+# Objectives (level 3) and their gains (ours: the paper gives none). A weight multiplies the
+# squared residual of rows scaled so that the block's largest row has unit norm (`_Rows.add`;
+# the velocity objective: every row), so it compares residuals in units of that row, not in
+# the physical units of the task.
 POSTURE_KP, POSTURE_KD, POSTURE_WEIGHT = 10.0, 2 * math.sqrt(10.0), 1e-3  # eq. 19 [1/s^2, 1/s]
 TORSO_KP, TORSO_KD, TORSO_WEIGHT = 100.0, 20.0, 1.0  # eq. 18
-HAND_KP, HAND_KD, HAND_ERROR_MAX, HAND_WEIGHT = 10.0, 2 * math.sqrt(10.0), 0.05, 1.0  # eq. 17
-COP_WEIGHT = 10.0  # eq. 21 [per m^2]
+HAND_KP, HAND_KD, HAND_ERROR_MAX, HAND_WEIGHT = 10.0, 3.0, 0.05, 10.0  # eq. 17 (m: saturation)
+COP_WEIGHT = 10.0  # eq. 21
 COP_VELOCITY_WEIGHT = 1.0  # eq. 22
 JERK_WEIGHT = 10.0  # eq. 20
 JERK_TIME_FLOOR_S = 0.2  # [s] eq. 20's remaining time no shorter (row norms within 2e3)
 ADAPTATION_BLOCK_S = 0.1  # [s] the footstep is kept in the last 0.1 s of a swing (ours)
-VELOCITY_WEIGHT = 100.0  # CoM velocity objective (ours, after [3])
-HEIGHT_KP, HEIGHT_KD, HEIGHT_WEIGHT = (
-    100.0,
-    20.0,
-    10.0,
-)  # CoM height held (ours)  # CoM velocity objective (ours, after [3]) [per (m/s)^2]
+VELOCITY_WEIGHT = 100.0  # CoM velocity objective over the preview (ours, after [3])
+HEIGHT_KP, HEIGHT_KD, HEIGHT_WEIGHT = 100.0, 20.0, 10.0  # CoM height held (ours)
 SWING_ORIENTATION_KP, SWING_ORIENTATION_KD = 100.0, 20.0  # eq. 16's constant orientation, held
 SWING_TIME_FLOOR_S = 0.05  # [s] the cubics' remaining time no shorter (ours: see _swing_rows)
 CONTACT_DAMPING = 20.0  # [1/s] eq. 8 as J q'' + J' q' = -K J q' (ours, see _levels)
@@ -144,7 +150,15 @@ class _Rows:
         self.blocks: list[tuple[np.ndarray, np.ndarray, np.ndarray]] = []
         self.names: list[str] = []  # per row, for reports of which rows are violated
 
-    def add(self, a: np.ndarray, lower, upper, weight: float = 1.0, name: str = "") -> None:
+    def add(
+        self,
+        a: np.ndarray,
+        lower,
+        upper,
+        weight: float = 1.0,
+        name: str = "",
+        rowwise: bool = False,
+    ) -> None:
         a = np.atleast_2d(a)
         self.names.extend([name] * a.shape[0])
         lower = np.broadcast_to(np.asarray(lower, dtype=float), a.shape[:1])
@@ -152,12 +166,18 @@ class _Rows:
         # each block scaled to a largest row norm of one, then weighted: the rows' norms
         # within a level stay near the weights' ratio (DAQP's accuracy and speed fall with
         # that ratio: centroidal.hierarchy); a block keeps its rows' relative weights
-        largest = float(np.linalg.norm(a, axis=1).max()) if a.size else 0.0
-        scale = math.sqrt(weight) / (largest if largest > 0.0 else 1.0)
-        self.blocks.append((a * scale, lower * scale, upper * scale))
+        # (`rowwise`: every row to unit norm, for blocks whose rows' norms span decades)
+        norms = np.linalg.norm(a, axis=1) if a.size else np.zeros(len(a))
+        if not rowwise:
+            norms = np.full(len(a), norms.max() if len(a) else 0.0)
+        norms[norms == 0.0] = 1.0
+        scale = math.sqrt(weight) / norms
+        self.blocks.append((a * scale[:, None], lower * scale, upper * scale))
 
-    def equal(self, a: np.ndarray, value, weight: float = 1.0, name: str = "") -> None:
-        self.add(a, value, value, weight, name)
+    def equal(
+        self, a: np.ndarray, value, weight: float = 1.0, name: str = "", rowwise: bool = False
+    ) -> None:
+        self.add(a, value, value, weight, name, rowwise)
 
     def level(self, name: str) -> Level:
         if not self.blocks:
@@ -508,14 +528,14 @@ class CapturabilityHierarchyPlanner:
             # eq. 11 now too: the preview's CoP z_0 = c_0 - c''_0 / omega^2 in the current
             # support (else the point mass could lean on a CoP that only angular momentum of
             # the whole body would realise)
+            # (ours; in a double support between steps on both feet, so that the CoP can move
+            # onto the landed foot during it)
+            now_low, now_high = (box[0] + current, box[1] + current)
+            if walking and phase.swing is None:
+                now_low, now_high = self._both_feet_box()
             a = np.zeros(n)
             a[lay.cdd.start + axis] = -1.0 / self.omega**2
-            first.add(
-                a,
-                box[0][axis] + current[axis] - c0[axis],
-                box[1][axis] + current[axis] - c0[axis],
-                name="cop_now",
-            )
+            first.add(a, now_low[axis] - c0[axis], now_high[axis] - c0[axis], name="cop_now")
             for k in range(lay.samples):
                 j = min(int(supports[k]), lay.steps)  # the K-th foothold after K landings
                 a = np.zeros(n)
@@ -564,6 +584,7 @@ class CapturabilityHierarchyPlanner:
                     target - pre.s_known[:, 1, :] @ np.array([c0[axis], dc0[axis]]),
                     VELOCITY_WEIGHT,
                     "com_velocity",
+                    rowwise=True,
                 )
         # eq. 16 (and 20): the swing foot
         if phase.swing is not None:

@@ -111,7 +111,9 @@ class StepSchedule:
             first = step_now if into < self.single_s - 1e-9 else step_now + 1
         for k in range(1, n + 1):
             at = self._step_at(t + k * period_s)
-            if at is None:  # the walk has ended by then: the last foothold (both feet)
+            if at is None and t + k * period_s < self.walk_start - 1e-12:
+                continue  # before the walk starts: on the current foothold (0)
+            if at is None:  # the walk has ended by then: its last foothold
                 last = (self.steps or 0) - 1
                 supports[k - 1] = max(0, last - first + 1)
                 continue

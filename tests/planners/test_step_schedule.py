@@ -64,7 +64,7 @@ def test_before_a_walk_starts_the_preview_sees_its_steps():
     """Standing at 0.95 with a walk from 1.0: samples before 1.0 on both feet (0), then the
     first step's stance foot (0) until its touchdown at 1.7, then footstep 1, and 2 after 2.5."""
     schedule = StepSchedule(0.7, 0.1)
-    schedule.start(1.0, "left_foot")
+    schedule.start(1.0, "left_foot", steps=11)  # a finite walk too (a gait command's)
     assert schedule.starting(0.95)
     assert schedule.phase(0.95).step == -1
     supports = schedule.sample_supports(0.95, 0.1, 16)
