@@ -220,7 +220,7 @@ def test_main_spec_file_is_valid():
 
 
 NOT_AT_REST = {
-    "direct_centroidal": "inertia control: falls within 0.4 s standing (issue 17 note)",
+    "direct_centroidal": "inertia control: falls within 0.7 s standing (issue 17 note)",
     "direct_centroidal/no_inertia": "the knees still straightening (time constant 0.3 s): "
     "6.5 / 3.5 mm/s at the push time in MuJoCo / PyBullet (issue 17 note)",
 }
