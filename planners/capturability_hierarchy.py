@@ -523,6 +523,20 @@ class CapturabilityHierarchyPlanner:
                 first.add(a, [-length, y_range[0]], [length, y_range[1]], name="footstep_box")
             else:
                 first.equal(a, 0.0, name="no_footstep")
+        # per preview sample: its foothold index (the K-th after K landings), the centre of
+        # its CoP box (eq. 11) and centring target (eq. 21), and the box about that centre
+        footholds = np.minimum(supports[: lay.samples], lay.steps)
+        centres = np.empty((lay.samples, 2))
+        lows, highs = np.empty((lay.samples, 2)), np.empty((lay.samples, 2))
+        for k in range(lay.samples):
+            centre, bounds = (current, box) if footholds[k] == 0 else (anchor, foot_box)
+            if starting and footholds[k] == 0:
+                # before the first step: on both feet, centred on the first stance foot (the
+                # weight shift); after its lift-off, on the stance foot alone
+                lift_off = self._t + (k + 1) * self.period_s >= self.schedule.walk_start
+                centre, bounds = (anchor, foot_box) if lift_off else (anchor, box_about(anchor))
+            centres[k] = centre
+            lows[k], highs[k] = bounds[0] + centre, bounds[1] + centre
         for axis in range(2):
             cop = lay.cop(axis)
             # eq. 11 now too: the preview's CoP z_0 = c_0 - c''_0 / omega^2 in the current
@@ -536,27 +550,14 @@ class CapturabilityHierarchyPlanner:
             a = np.zeros(n)
             a[lay.cdd.start + axis] = -1.0 / self.omega**2
             first.add(a, now_low[axis] - c0[axis], now_high[axis] - c0[axis], name="cop_now")
-            for k in range(lay.samples):
-                j = min(int(supports[k]), lay.steps)  # the K-th foothold after K landings
-                a = np.zeros(n)
-                a[cop.start + k] = 1.0
-                for i in range(1, j + 1):
-                    a[lay.step(i).start + axis] = -1.0
-                centre, bounds = (current, box) if j == 0 else (anchor, foot_box)
-                if starting and j == 0:
-                    # before the first step: on both feet, centred on the first stance foot
-                    # (the weight shift); after its lift-off, on the stance foot alone
-                    lift_off = self._t + (k + 1) * self.period_s >= self.schedule.walk_start
-                    centre, bounds = (anchor, foot_box) if lift_off else (anchor, box_about(anchor))
-                # eq. 11: z_k - p_j inside the sole (both feet while standing)
-                first.add(
-                    a,
-                    bounds[0][axis] + centre[axis],
-                    bounds[1][axis] + centre[axis],
-                    name="cop_preview",
-                )
-                # eq. 21: CoP centring
-                third.equal(a, centre[axis], COP_WEIGHT, "cop")
+            # eqs. 11 and 21 for the samples, one row each (scaled row by row, as separate
+            # blocks would be): z_k - p_j(k), p_j = anchor + sum_{i <= j} d_i
+            a = np.zeros((lay.samples, n))
+            a[:, cop] = np.eye(lay.samples)
+            for i in range(1, lay.steps + 1):
+                a[:, lay.step(i).start + axis] = np.where(footholds >= i, -1.0, 0.0)
+            first.add(a, lows[:, axis], highs[:, axis], name="cop_preview", rowwise=True)
+            third.equal(a, centres[:, axis], COP_WEIGHT, "cop", rowwise=True)
             # eq. 14 at level 2
             row_known, row_acc, row_cop = self.capture_row
             a = np.zeros(n)
