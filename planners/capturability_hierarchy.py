@@ -90,8 +90,8 @@ STOP_MARGIN_M, STOP_SPEED = 0.02, 0.1  # a push-started walk stops when capture 
 def torsional_friction(friction: float, half_extents: tuple[float, float]) -> float:
     """gamma of eq. 6 [m] (the paper cites [23] without a value): the torsional moment a
     rectangular sole can hold under a uniform pressure, mu F times the mean distance of its
-    points from the centre, approximated as mu (a + b) / 3 for half extents a, b (exact for a
-    square's inscribed disc bound; ours)."""
+    points from the centre, approximated from below as mu (a + b) / 3 for half extents a, b
+    (a square's mean distance is 0.765 a, this gives 0.667 a; ours)."""
     a, b = half_extents
     return friction * (a + b) / 3.0
 
@@ -207,6 +207,8 @@ class CapturabilityHierarchyPlanner:
         self.hand_frame = robot.frame_id[limbs[HAND].contact_frame]
         self.base_frame = robot.frame_id[description.base_link]
         self.limb_frames = [robot.frame_id[limb.contact_frame] for limb in description.limbs]
+        # every limb's frame (the plan's limb targets) and the base (eq. 18), once each
+        self.frames = list(dict.fromkeys([*self.limb_frames, self.base_frame]))
         self.half_extents = np.array(limbs[FEET[0]].half_extents[:2], dtype=float)
         # eqs. 7 and 11 on the sole less a margin (ours: a CoP on the very edge tips the foot)
         self.cop_extents = self.half_extents - SOLE_MARGIN_M * description.scale
@@ -261,9 +263,7 @@ class CapturabilityHierarchyPlanner:
             self.schedule.start(first + FIRST_STEP_AFTER_S * math.sqrt(self.scale), FEET[1])
         self.warm = None
         self.last_phase = self.schedule.phase(0.0)
-        self.swing_start: np.ndarray | None = None
         self.solver_failures = 0
-        self.last_solution: np.ndarray | None = None
         self.last_step: np.ndarray | None = None
 
     # ------------------------------------------------------------------ one period
@@ -272,7 +272,7 @@ class CapturabilityHierarchyPlanner:
         robot = self.robot_model
         q = robot.configuration(state)
         v = robot.velocity(state, q)
-        frames = [*self.foot_frames, self.hand_frame, self.base_frame]
+        frames = self.frames
         terms = whole_body_terms(self.model, self.data, q, v, frames)
         self._velocities = {f: terms.jacobian[f] @ v for f in frames}
         phase = self._advance(t, terms)
@@ -287,8 +287,8 @@ class CapturabilityHierarchyPlanner:
         try:
             solution = solve_hierarchy(levels, self.layout.size, warm_start=warm)
         except HierarchyError:
-            # DAQP gave up (measured: its exitflag 3 when level 1 leaves no freedom): the
-            # same hierarchy through the reference cascade of QPs, counted as a failure
+            # DAQP gave up (measured: rows' norm ratio beyond its limit, or its exitflag 3):
+            # the same hierarchy through the reference cascade of QPs, counted as a failure
             self.solver_failures += 1
             solution = solve_hierarchy(levels, self.layout.size, solver="cascade")
         solve_ns = time.perf_counter_ns()
@@ -299,15 +299,13 @@ class CapturabilityHierarchyPlanner:
         self.last_step = x[self.layout.step(1)].copy() if phase.swing is not None else None
         if not self.schedule.walking:
             self._maybe_step(t, terms)
-        plan = self._plan(t, x, terms, phase, context)
         timings = {
             "terms": terms_ns - start_ns,
             "rows": build_ns - terms_ns,
             "hierarchy": solve_ns - build_ns,
-            "plan": time.perf_counter_ns() - solve_ns,
         }
-        object.__setattr__(plan, "timings_ns", timings)
-        object.__setattr__(plan, "solver_iterations", solution.iterations)
+        plan = self._plan(t, x, terms, phase, context, timings, solution.iterations)
+        timings["plan"] = time.perf_counter_ns() - solve_ns
         return plan
 
     def _advance(self, t: float, terms: WholeBodyTerms):
@@ -318,9 +316,6 @@ class CapturabilityHierarchyPlanner:
         if last.swing is not None and phase.swing != last.swing:  # a touchdown
             frame = self.foot_frames[FEET.index(last.swing)]
             self.foothold[last.swing] = terms.placement[frame][0][:2].copy()
-        if phase.swing is not None and phase.swing != last.swing:  # a lift-off
-            frame = self.foot_frames[FEET.index(phase.swing)]
-            self.swing_start = terms.placement[frame][0].copy()
         if self.walk_by_push and phase.swing is None and phase.step >= 1:
             capture = terms.com_position[:2] + terms.com_velocity[:2] / self.omega
             low, high = self._both_feet_box()
@@ -657,7 +652,7 @@ class CapturabilityHierarchyPlanner:
         )
 
     # ------------------------------------------------------------------ the plan
-    def _plan(self, t, x, terms, phase, anchor) -> CentroidalPlan:
+    def _plan(self, t, x, terms, phase, anchor, timings, iterations) -> CentroidalPlan:
         lay = self.layout
         weight = self.weight
         n_limbs = len(self.limb_names)
@@ -674,12 +669,7 @@ class CapturabilityHierarchyPlanner:
         zmp = np.array([*(com[:2] - cdd / self.omega**2), self.ground])
         # footsteps: P_j = current + sum d_i
         footsteps = []
-        limb_position = np.array(
-            [
-                terms.placement[f][0] if f in terms.placement else np.zeros(3)
-                for f in self.limb_frames
-            ]
-        )
+        limb_position = np.array([terms.placement[f][0] for f in self.limb_frames])
         limb_orientation = np.tile([1.0, 0.0, 0.0, 0.0], (n_limbs, 1))
         starting = self.schedule.starting(t)
         if (self.schedule.walking and phase.step >= 0) or starting:
@@ -723,7 +713,8 @@ class CapturabilityHierarchyPlanner:
             contact_limbs=tuple(contacts),
             limb_target_position_world=limb_position,
             limb_target_orientation_world=limb_orientation,
-            timings_ns={},
+            timings_ns=timings,
+            solver_iterations=iterations,
             footsteps=tuple(footsteps),
             generalized_acceleration=x[lay.qdd].copy(),
             contact_wrench_limb=wrenches,
