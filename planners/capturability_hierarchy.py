@@ -512,6 +512,8 @@ class CapturabilityHierarchyPlanner:
         for j in range(1, lay.steps + 1):
             a = np.zeros((2, n))
             a[:, lay.step(j)] = np.eye(2)
+            if j == 1 and self._step_kept(phase):
+                continue  # `_swing_rows` holds it where it was (inside its rectangle)
             if j <= len(feet_next):
                 side = 1.0 if feet_next[j - 1] == FEET[0] else -1.0
                 y_range = sorted((side * w_low, side * w_high))
@@ -587,6 +589,17 @@ class CapturabilityHierarchyPlanner:
             self._swing_rows(first, third, terms, phase, anchor)
         return anchor
 
+    def _step_kept(self, phase) -> bool:
+        """The next footstep is held where the last period put it (the last
+        `ADAPTATION_BLOCK_S` of a swing). Its rectangle (eq. 12) is then left out: the held
+        value lies on it whenever the step was pressed against it, and the two rows together
+        are degenerate (measured: DAQP's exitflag 3 and every cascade QP solver failing)."""
+        return (
+            phase.swing is not None
+            and phase.remaining_s < ADAPTATION_BLOCK_S
+            and self.last_step is not None
+        )
+
     def _swing_rows(self, first, third, terms, phase, current) -> None:
         """Eq. 16: the swing sole's acceleration from cubics through the next footstep
         (horizontal) and to the apex, then the ground (vertical, ours), with its orientation
@@ -602,7 +615,7 @@ class CapturabilityHierarchyPlanner:
         v_now = self._velocities[frame]
         rows = swing_cubic(phase.remaining_s, floor_s=SWING_TIME_FLOOR_S)
         jerk_rows = swing_cubic(phase.remaining_s, floor_s=JERK_TIME_FLOOR_S)
-        if phase.remaining_s < ADAPTATION_BLOCK_S and self.last_step is not None:
+        if self._step_kept(phase):
             # the paper's "straightforward workaround": no footstep change near the ground
             a = np.zeros((2, n))
             a[:, lay.step(1)] = np.eye(2)

@@ -1,0 +1,33 @@
+"""Rows of the capturability hierarchy (issue 18) that the closed-loop tests do not isolate."""
+
+import numpy as np
+
+from bench.runner import cached_model, humanoid
+from bench.scenarios import reach
+from planners.capturability_hierarchy import ADAPTATION_BLOCK_S, CapturabilityHierarchyPlanner
+
+
+def test_a_footstep_held_near_touchdown_replaces_its_rectangle():
+    """In the last `ADAPTATION_BLOCK_S` of a swing the next footstep is held where the last
+    period put it (the paper's workaround), and its rectangle (eq. 12) leaves the hierarchy:
+    together with the held value it made the rows degenerate (DAQP exitflag 3 and every
+    cascade QP solver failing, measured in `reach_push`). The second footstep keeps its
+    rectangle, and the held step comes out of the solve unchanged."""
+    model = cached_model(humanoid(1.0))
+    state = model.standing_state()
+    planner = CapturabilityHierarchyPlanner(0.002)
+    planner.reset(model, reach(model), state)
+    swing_start = planner.schedule.walk_start
+    end = swing_start + planner.schedule.single_s
+    before = end - ADAPTATION_BLOCK_S - 0.01  # still adapting
+    planner.plan(before, state)
+    first = list(planner.row_names[0])
+    assert planner.last_phase.swing is not None
+    assert first.count("footstep_box") == 4
+    assert "footstep_kept" not in first
+    held = planner.last_step.copy()
+    planner.plan(end - ADAPTATION_BLOCK_S / 2, state)
+    first = list(planner.row_names[0])
+    assert first.count("footstep_kept") == 2
+    assert first.count("footstep_box") == 2  # the second footstep's rectangle only
+    np.testing.assert_allclose(planner.last_step, held, atol=1e-9)
