@@ -212,36 +212,44 @@ def damping_control(
     compliance_linear: np.ndarray,
     compliance_angular: np.ndarray,
 ) -> tuple[np.ndarray, np.ndarray]:
-    """Eqs. 15-16 for every limb at once (compiled): the wrench error (measured - desired,
-    limb frames, (k, 6)) rotated into world axes by the target orientations (k, 4), then
-    Kd dp/dt = Kf e - Ks p with the damping, stiffness and force gains (k, 6) integrated over
-    `dt` [s]: the linear compliance (k, 3) [m] by Euler, the angular one (k, 3) [rad] on SO(3)
-    (the rotation by dt times its rate composed with the compliance). Updates both compliances
-    in place; returns the compliant limb positions (k, 3) [m] and orientations (k, 4)."""
+    """Eqs. 15-16 for every limb at once (compiled), per axis of each limb's contact frame (the
+    frame of its target orientation, (k, 4)): the wrench error e = measured - desired (limb
+    frames, (k, 6)) drives Kd dp/dt = Kf e - Ks p with the damping, stiffness and force gains
+    (k, 6), so that Table II's entries for the contact normal and its tangents act along the
+    contact's own normal and tangents (a hand on a wall, a foot on a rung), as the paper's
+    eq. 15 is written in the contact frame. The compliances are contact-frame vectors,
+    updated in place over `dt` [s]: the linear one (k, 3) [m] by Euler, the angular one
+    (k, 3) [rad] on SO(3) (exp(dt rate) exp(p)). Returns the compliant limb positions
+    target + R p (k, 3) [m] and orientations R exp(p) (k, 4). For a contact frame that differs
+    from the world's by a yaw only, with Table II's equal x and y gains, this is the
+    world-axes form R e that it replaced (issue 19; `tests/centroidal/test_kernel_equivalence`)."""
     targets = np.empty_like(target_orientation_world)
     for k in range(len(targets)):
         q = target_orientation_world[k]
         targets[k] = q / np.sqrt(q[0] * q[0] + q[1] * q[1] + q[2] * q[2] + q[3] * q[3])
     rotations = matrix_rows_of_quaternions(targets)
     angular_rate = np.empty_like(compliance_angular)
+    compliant_position = np.empty_like(target_position_world)
     for k in range(len(targets)):
         difference = wrench_measured_limb[k] - wrench_desired_limb[k]
-        r = rotations[k]
-        for i in range(3):  # world-axes errors: R e
-            force = r[i, 0] * difference[0] + r[i, 1] * difference[1] + r[i, 2] * difference[2]
-            moment = r[i, 0] * difference[3] + r[i, 1] * difference[4] + r[i, 2] * difference[5]
+        for i in range(3):  # contact-frame errors
             compliance_linear[k, i] += dt * (
-                (kf[k, i] * force - ks[k, i] * compliance_linear[k, i]) / kd[k, i]
+                (kf[k, i] * difference[i] - ks[k, i] * compliance_linear[k, i]) / kd[k, i]
             )
             angular_rate[k, i] = (
-                kf[k, 3 + i] * moment - ks[k, 3 + i] * compliance_angular[k, i]
+                kf[k, 3 + i] * difference[3 + i] - ks[k, 3 + i] * compliance_angular[k, i]
             ) / kd[k, 3 + i]
+        r, p = rotations[k], compliance_linear[k]
+        for i in range(3):
+            compliant_position[k, i] = target_position_world[k, i] + (
+                r[i, 0] * p[0] + r[i, 1] * p[1] + r[i, 2] * p[2]
+            )
     turned = multiply_quaternion_rows(
         quaternion_rows_of_vectors(dt * angular_rate),
         quaternion_rows_of_vectors(compliance_angular),
     )
     compliance_angular[:] = vector_rows_of_quaternions(turned)  # eq. 16 on SO(3)
     compliant_orientation = multiply_quaternion_rows(
-        quaternion_rows_of_vectors(compliance_angular), targets
+        targets, quaternion_rows_of_vectors(compliance_angular)
     )
-    return target_position_world + compliance_linear, compliant_orientation
+    return compliant_position, compliant_orientation

@@ -26,9 +26,31 @@ def quaternions(rng, k):
     return Rotation.random(k, random_state=rng).as_quat(scalar_first=True)
 
 
-def test_damping_kernel_is_eqs_15_16_in_numpy():
-    """The numpy version that the kernel replaced: world-axes errors R (w_a - w_d), Euler on
-    the linear compliance, the rotation by dt times the rate composed on SO(3)."""
+def _damping_world_axes(positions, targets, measured, desired, kd, ks, kf, dt, linear, angular):
+    """The world-axes form that the kernel had until issue 19 (numpy): errors R (w_a - w_d),
+    Euler on the linear compliance, the rotation by dt times the rate composed on SO(3), the
+    compliance applied before the target (exp(p) R). Updates linear and angular in place."""
+    rotation = Rotation.from_quat(
+        targets / np.linalg.norm(targets, axis=1, keepdims=True), scalar_first=True
+    )
+    difference = (measured - desired).reshape(len(targets), 2, 3)
+    error = np.concatenate([rotation.apply(difference[:, 0]), rotation.apply(difference[:, 1])], 1)
+    linear += dt * (kf[:, :3] * error[:, :3] - ks[:, :3] * linear) / kd[:, :3]
+    rate = (kf[:, 3:] * error[:, 3:] - ks[:, 3:] * angular) / kd[:, 3:]
+    angular[:] = (Rotation.from_rotvec(dt * rate) * Rotation.from_rotvec(angular)).as_rotvec()
+    orientation = (Rotation.from_rotvec(angular) * rotation).as_quat(scalar_first=True)
+    return positions + linear, orientation
+
+
+def _same_quaternions(a, b, atol):
+    np.testing.assert_allclose(a, np.sign(a[:, :1] * b[:, :1]) * b, rtol=0, atol=atol)
+
+
+def test_damping_kernel_is_eqs_15_16_in_the_contact_frame():
+    """Eq. 15 per axis of each limb's contact frame (the target's): Kd dp/dt = Kf (w_a - w_d)
+    - Ks p with the errors as measured (limb frames), Euler on the linear compliance, the
+    rotation by dt times the rate composed on SO(3); the compliant pose is the target moved by
+    R p and turned by exp(p) about its own axes."""
     rng = np.random.default_rng(15)
     k, dt = 4, 0.002
     targets = quaternions(rng, k) * 1.7  # not unit: the kernel normalises
@@ -43,21 +65,90 @@ def test_damping_kernel_is_eqs_15_16_in_numpy():
 
     unit = targets / np.linalg.norm(targets, axis=1, keepdims=True)
     rotation = Rotation.from_quat(unit, scalar_first=True)
-    difference = (measured - desired).reshape(k, 2, 3)
-    error = np.concatenate([rotation.apply(difference[:, 0]), rotation.apply(difference[:, 1])], 1)
+    error = measured - desired
     linear_expected = linear + dt * (kf[:, :3] * error[:, :3] - ks[:, :3] * linear) / kd[:, :3]
     rate = (kf[:, 3:] * error[:, 3:] - ks[:, 3:] * angular) / kd[:, 3:]
     turned = Rotation.from_rotvec(dt * rate) * Rotation.from_rotvec(angular)
     angular_expected = turned.as_rotvec()
-    orientation_expected = (Rotation.from_rotvec(angular_expected) * rotation).as_quat(
+    orientation_expected = (rotation * Rotation.from_rotvec(angular_expected)).as_quat(
         scalar_first=True
     )
     np.testing.assert_allclose(linear_kernel, linear_expected, rtol=0, atol=1e-12)
     np.testing.assert_allclose(angular_kernel, angular_expected, rtol=0, atol=1e-12)
-    np.testing.assert_allclose(position, positions + linear_expected, rtol=0, atol=1e-12)
-    same_sign = np.sign(orientation[:, :1] * orientation_expected[:, :1])
-    np.testing.assert_allclose(orientation, same_sign * orientation_expected, atol=1e-12)
+    np.testing.assert_allclose(
+        position, positions + rotation.apply(linear_expected), rtol=0, atol=1e-12
+    )
+    _same_quaternions(orientation, orientation_expected, 1e-12)
     assert np.abs(linear_kernel - linear).max() > 1e-6  # the update did something
+
+
+def _table_ii_contact(k):
+    from stabilizers.centroidal_feedback import TABLE_II
+
+    return [
+        np.tile(np.array(TABLE_II["contact"][x], dtype=float), (k, 1)) for x in ("kd", "ks", "kf")
+    ]
+
+
+def test_contact_frame_damping_is_the_world_axes_one_for_a_horizontal_contact():
+    """Soles on flat ground turned by any yaw, Table II's contact gains (equal for x and y):
+    200 periods of random wrench errors give the same compliant poses as the world-axes form
+    it replaced, to rounding."""
+    rng = np.random.default_rng(19)
+    k, dt = 2, 0.002
+    yaw = rng.uniform(-np.pi, np.pi, k)
+    targets = Rotation.from_euler("z", yaw[:, None]).as_quat(scalar_first=True)
+    positions = rng.normal(size=(k, 3))
+    kd, ks, kf = _table_ii_contact(k)
+    contact = [np.zeros((k, 3)) for _ in range(2)]
+    world = [np.zeros((k, 3)) for _ in range(2)]
+    for _ in range(200):
+        measured, desired = rng.normal(scale=50, size=(2, k, 6))
+        position, orientation = damping_control(
+            positions, targets, measured, desired, kd, ks, kf, dt, *contact
+        )
+        expected = _damping_world_axes(
+            positions, targets, measured, desired, kd, ks, kf, dt, *world
+        )
+        np.testing.assert_allclose(position, expected[0], rtol=0, atol=1e-12)
+        _same_quaternions(orientation, expected[1], 1e-12)
+    assert np.abs(position - positions).max() > 1e-4  # it moved
+
+
+def test_contact_frame_damping_on_a_wall_acts_about_the_wall_normal_as_table_ii_says():
+    """A palm on a wall beside the robot: its contact normal (sole-frame z) along world -y.
+    Table II for a contact: the moment about the normal has Kf = 0 and Ks = 2000, the
+    tangential ones Kf = 1, Kd = 100 (eq. 15). A 5 N m moment error about the normal leaves
+    the palm unturned in the contact frame; the world-axes form turned it about the normal at
+    Kf m / Kd = 0.05 rad/s (world y carries the tangential gains). A 5 N m moment about the
+    world z (a tangent of the wall) turns the palm at 0.05 rad/s about it; the world-axes form
+    applied the normal's Kf = 0 to it and did not."""
+    dt = 0.002
+    wall = Rotation.from_euler("x", 90.0, degrees=True)  # sole z -> world -y
+    np.testing.assert_allclose(wall.apply([0.0, 0.0, 1.0]), [0.0, -1.0, 0.0], atol=1e-15)
+    targets = wall.as_quat(scalar_first=True)[None, :]
+    positions = np.zeros((1, 3))
+    kd, ks, kf = _table_ii_contact(1)
+    for axis_world in ([0.0, -1.0, 0.0], [0.0, 0.0, 1.0]):  # the normal, then a tangent
+        moment_limb = wall.inv().apply(5.0 * np.array(axis_world))
+        measured = np.concatenate([np.zeros(3), moment_limb])[None, :]
+        contact = [np.zeros((1, 3)) for _ in range(2)]
+        world = [np.zeros((1, 3)) for _ in range(2)]
+        _, orientation = damping_control(
+            positions, targets, measured, np.zeros((1, 6)), kd, ks, kf, dt, *contact
+        )
+        _, old = _damping_world_axes(
+            positions, targets, measured, np.zeros((1, 6)), kd, ks, kf, dt, *world
+        )
+        turn = (Rotation.from_quat(orientation, scalar_first=True) * wall.inv()).as_rotvec()[0]
+        turn_old = (Rotation.from_quat(old, scalar_first=True) * wall.inv()).as_rotvec()[0]
+        expected = dt * 5.0 / 100.0 * np.array(axis_world)
+        if axis_world[1]:  # about the normal
+            np.testing.assert_allclose(turn, 0.0, atol=1e-15)
+            np.testing.assert_allclose(turn_old, expected, rtol=1e-9, atol=1e-15)
+        else:  # about a tangent
+            np.testing.assert_allclose(turn, expected, rtol=1e-9, atol=1e-15)
+            np.testing.assert_allclose(turn_old, 0.0, atol=1e-15)
 
 
 def test_ik_qp_terms_are_the_weighted_least_squares_in_numpy():
