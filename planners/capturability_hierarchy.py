@@ -84,6 +84,7 @@ SOLE_MARGIN_M = 0.02  # [m] eqs. 7, 11 keep the CoP this far inside the sole's e
 MIN_NORMAL_FORCE = 0.05  # a contact sole's least normal force, in units of m g (ours)
 FIRST_STEP_AFTER_S = 1.0  # [s] double support before a reach's first step (ours, as walks)
 STEP_TRIGGER_M = 0.05  # [m] capture point off the feet's middle that makes it step (ours)
+HOLD_PERIODS_MAX = 5  # a hierarchy no solver solves: the last answer held this long (ours)
 STOP_MARGIN_M, STOP_SPEED = 0.02, 0.1  # a push-started walk stops when capture point is inside
 
 
@@ -264,6 +265,8 @@ class CapturabilityHierarchyPlanner:
         self.warm = None
         self.last_phase = self.schedule.phase(0.0)
         self.solver_failures = 0
+        self.last_solution = None  # (rows' signature, HierarchySolution) of the last period
+        self.held = 0  # periods in a row that held the last solution
         self.last_step: np.ndarray | None = None
 
     # ------------------------------------------------------------------ one period
@@ -284,19 +287,31 @@ class CapturabilityHierarchyPlanner:
         # hot start (Sec. VII) from the last period's active set when the rows are the same
         signature = (phase.swing, tuple(level.a.shape[0] for level in levels))
         warm = self.warm[1] if self.warm is not None and self.warm[0] == signature else None
+        held = False
         try:
             solution = solve_hierarchy(levels, self.layout.size, warm_start=warm)
         except HierarchyError:
             # DAQP gave up (measured: rows' norm ratio beyond its limit, or its exitflag 3):
             # the same hierarchy through the reference cascade of QPs, counted as a failure
             self.solver_failures += 1
-            solution = solve_hierarchy(levels, self.layout.size, solver="cascade")
+            try:
+                solution = solve_hierarchy(levels, self.layout.size, solver="cascade")
+            except HierarchyError:
+                # ours: the last period's answer held (the same rows), as a controller keeps
+                # its last command, for at most `HOLD_PERIODS_MAX` periods in a row
+                last = self.last_solution
+                if last is None or last[0] != signature or self.held >= HOLD_PERIODS_MAX:
+                    raise
+                solution, held = last[1], True
         solve_ns = time.perf_counter_ns()
         x = solution.x
         if not np.all(np.isfinite(x)):
             raise RuntimeError(f"hierarchy solver failed (exitflag {solution.exitflag})")
+        self.held = self.held + 1 if held else 0
+        self.last_solution = (signature, solution)
         self.warm = (signature, solution.active)
-        self.last_step = x[self.layout.step(1)].copy() if phase.swing is not None else None
+        if not held:
+            self.last_step = x[self.layout.step(1)].copy() if phase.swing is not None else None
         if not self.schedule.walking:
             self._maybe_step(t, terms)
         timings = {

@@ -1,6 +1,7 @@
 """Rows of the capturability hierarchy (issue 18) that the closed-loop tests do not isolate."""
 
 import numpy as np
+import pytest
 
 from bench.runner import cached_model, humanoid
 from bench.scenarios import reach
@@ -31,3 +32,34 @@ def test_a_footstep_held_near_touchdown_replaces_its_rectangle():
     assert first.count("footstep_kept") == 2
     assert first.count("footstep_box") == 2  # the second footstep's rectangle only
     np.testing.assert_allclose(planner.last_step, held, atol=1e-9)
+
+
+def test_a_hierarchy_no_solver_solves_holds_the_last_answer_a_few_periods(monkeypatch):
+    """When DAQP and the reference cascade both fail, the last period's answer (same rows) is
+    held, counted as a solver failure, for at most `HOLD_PERIODS_MAX` periods in a row; then
+    the failure ends the episode (HierarchyError). A solve that succeeds resets the count."""
+    import planners.capturability_hierarchy as module
+    from centroidal.hierarchy import HierarchyError
+
+    model = cached_model(humanoid(1.0))
+    state = model.standing_state()
+    planner = CapturabilityHierarchyPlanner(0.002)
+    planner.reset(model, reach(model), state)
+    solved = planner.plan(0.0, state)
+    solve = module.solve_hierarchy
+
+    def failing(*args, **kwargs):
+        raise HierarchyError("no solution (test)")
+
+    monkeypatch.setattr(module, "solve_hierarchy", failing)
+    for k in range(module.HOLD_PERIODS_MAX):
+        held = planner.plan(0.002 * (k + 1), state)
+        np.testing.assert_array_equal(
+            held.generalized_acceleration, solved.generalized_acceleration
+        )
+        assert planner.solver_failures == k + 1
+    with pytest.raises(HierarchyError):
+        planner.plan(0.002 * (module.HOLD_PERIODS_MAX + 1), state)
+    monkeypatch.setattr(module, "solve_hierarchy", solve)
+    planner.plan(0.02, state)
+    assert planner.held == 0
