@@ -10,8 +10,10 @@ Ground truth, for the record only (no controller sees it): the centre of mass (`
 and, in scenarios with hand targets (`Scenario.hand_targets`, `hand_error_limb`), the hand
 error `hand_error_m` [m], the distance from that limb's contact frame (the palm) to its target
 active at the period's start (NaN while none is; no column in scenarios without targets),
-from the same forward-kinematics pass as the centre of mass. `hand_error_final_m` in the
-summary is the last period's (None without targets, or with none active at the end).
+from the same forward-kinematics pass as the centre of mass, with the two points it is the
+distance between: `hand_actual_{x,y,z}` (that palm position) and `hand_target_{x,y,z}` (the
+target, NaN while none is). `hand_error_final_m` in the summary is the last period's (None
+without targets, or with none active at the end).
 """
 
 from __future__ import annotations
@@ -51,6 +53,7 @@ PROGRESS_STAGES = ("setup", *STAGES)
 CONTROL_STAGES = STAGES[:-1]
 CENTROIDAL_STAGES = ("reference", "preview", "projection", "distribution")  # Table IV rows
 AXES = ("fx", "fy", "fz", "mx", "my", "mz")
+_NO_TARGET = (math.nan, math.nan, math.nan)  # hand_target_* while no target is active
 
 
 @dataclass(frozen=True)
@@ -358,6 +361,8 @@ def run_episode(spec: EpisodeSpec, progress: MutableSequence[float] | None = Non
             trace.put("zmp_margin_m", support.margin(plan))
             if hand_frame is not None:
                 target = scenario.hand_target_at(hand_limb, t)
+                trace.put_vector("hand_actual", hand_true)
+                trace.put_vector("hand_target", _NO_TARGET if target is None else target)
                 trace.put(
                     "hand_error_m",
                     math.nan if target is None else math.dist(hand_true, target),

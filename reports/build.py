@@ -8,6 +8,7 @@ from __future__ import annotations
 import datetime
 import html
 import json
+import re
 from pathlib import Path
 
 import pandas as pd
@@ -100,9 +101,14 @@ def header(episodes: pd.DataFrame, record: dict | None) -> dict[str, str]:
 
 
 def sections(
-    episodes: pd.DataFrame, benchmark: dict | None = None, survival_time: float = 3.0
+    episodes: pd.DataFrame,
+    benchmark: dict | None = None,
+    survival_time: float = 3.0,
+    solve_times: dict[str, dict[str, float]] | None = None,
 ) -> list[tuple[str, str, pd.DataFrame]]:
-    """(title, explanation, table) in report order; `survival_time` [s] is the spec's."""
+    """(title, explanation, table) in report order; `survival_time` [s] is the spec's;
+    `solve_times` the hierarchy's solve times of the reach episodes with a stored trace
+    (`tables.reach_table`)."""
     result = [
         (
             "Episodes by status",
@@ -163,6 +169,21 @@ def sections(
             tables.agreement_table(episodes),
         ),
     ]
+    if len(tables.reaches(episodes)):
+        result.append(
+            (
+                "Reaching tests (Sherikov et al. Tests 1-2)",
+                "Sherikov, Dimitrov & Wieber 2014, Sec. VII-B/C: the right hand driven to a "
+                "target that moves (Test 1, scenario reach), and the same with two 15 N s "
+                "pushes (Test 2, reach_push). Per episode: how it ended, the final hand error "
+                "[cm], the steps taken, pass (ended ok with a final hand error under "
+                f"{100 * tables.REACH_PASS_HAND_ERROR_M:g} cm) and the hierarchy's solve time "
+                "per control period [ms] (mean, p99, max; from the stored trace, empty "
+                "without one). The paper's mean is "
+                f"{plots.PAPER_SOLVE_MEAN_MS} ms, on an Intel Core i5-3360M.",
+                tables.reach_table(episodes, solve_times),
+            )
+        )
     if benchmark is not None:
         result.append(
             (
@@ -212,7 +233,13 @@ def build_report(
     out = Path(out)
     out.mkdir(parents=True, exist_ok=True)
     info = header(episodes, record)
-    parts = sections(episodes, benchmark, survival_time_s(record))
+    reach_traces = _reach_traces(Path(results), episodes, notes)
+    solve_times = {
+        episode_id: stats
+        for episode_id, (_, trace, _) in reach_traces.items()
+        if (stats := tables.solve_time_stats(trace, plots.HIERARCHY_TIME_COLUMN))
+    }
+    parts = sections(episodes, benchmark, survival_time_s(record), solve_times)
     speed = _speed_trials(Path(results), notes)
     if speed is not None:
         parts.append(
@@ -240,6 +267,7 @@ def build_report(
                 plots.walk_plot(walk_traces, out / "walk.png"),
             )
         )
+    figures += _reach_figures(reach_traces, out)
     if notes:
         info["files left out"] = "; ".join(notes)
     md = out / "report.md"
@@ -271,6 +299,99 @@ def _walk_traces(root: Path, episodes: pd.DataFrame, notes: list[str]) -> dict[s
             continue
         result[f"{controller} ({row['sim']}, {row['status']})"] = trace
     return result
+
+
+def _reach_traces(
+    root: Path, episodes: pd.DataFrame, notes: list[str]
+) -> dict[str, tuple[pd.Series, pd.DataFrame, pd.DataFrame | None]]:
+    """Per reach / reach_push episode with a stored trace: (its row, its trace, its steps
+    taken or None). A trace that cannot be read is skipped with a note in `notes`; a steps
+    file that is missing or cannot be read leaves the steps out of the top view, with a note."""
+    rows = tables.reaches(episodes)
+    if "has_trace" in rows.columns:
+        rows = rows[rows["has_trace"].fillna(False).astype(bool)]
+    result = {}
+    for _, row in rows.sort_values(["controller", "sim", "scenario", "episode_id"]).iterrows():
+        episode_id = row["episode_id"]
+        path = root / "traces" / f"{episode_id}.parquet"
+        if not path.exists():
+            continue
+        try:
+            trace = pq.read_table(path).to_pandas()
+        except Exception as exc:  # a corrupt trace: no plot, still a report
+            notes.append(f"traces/{path.name}: unreadable, not plotted ({type(exc).__name__})")
+            continue
+        if "time" not in trace.columns:
+            notes.append(f"traces/{path.name}: no time column, not plotted")
+            continue
+        steps_path = root / "traces" / f"{episode_id}.footsteps.parquet"
+        steps = None
+        if not steps_path.exists():
+            notes.append(f"traces/{steps_path.name}: missing, steps not drawn")
+        else:
+            try:
+                steps = pq.read_table(steps_path).to_pandas()
+            except Exception as exc:
+                notes.append(
+                    f"traces/{steps_path.name}: unreadable, steps not drawn ({type(exc).__name__})"
+                )
+            else:
+                missing = [c for c in ("limb", "x_m", "y_m", "yaw_rad") if c not in steps.columns]
+                if missing:
+                    notes.append(f"traces/{steps_path.name}: no {missing[0]} column, not drawn")
+                    steps = None
+        result[episode_id] = (row, trace, steps)
+    return result
+
+
+def _sole_half_extents(scale: float) -> tuple[float, float]:
+    """The half length and half width [m] of the humanoid's sole at `scale` (its robot
+    description, as the runner's; both feet are the same)."""
+    from robots.humanoid import humanoid
+
+    half_length, half_width = humanoid(scale).limb("left_foot").half_extents
+    return float(half_length), float(half_width)
+
+
+def _reach_figures(
+    reach_traces: dict[str, tuple[pd.Series, pd.DataFrame, pd.DataFrame | None]], out: Path
+) -> list[tuple[str, Path]]:
+    """Sherikov et al. 2014 Figs. 3 and 2 for each reach episode with a trace: the top view of
+    the CoM, hand, target and steps taken, and the hierarchy's solve time and iterations."""
+    figures = []
+    for episode_id, (row, trace, steps) in reach_traces.items():
+        scale = row.get("scale")
+        scale = float(scale) if pd.notna(scale) else 1.0
+        seed = row.get("seed")
+        label = (
+            f"{row['controller']} ({row['sim']}, {row['scenario']}"
+            + (f", seed {int(seed)}" if pd.notna(seed) else "")
+            + f", {row['status']})"
+        )
+        name = re.sub(r"[^A-Za-z0-9._-]", "_", str(episode_id))
+        pushes = tables.REACH_PUSH_TIMES_S if row["scenario"] == "reach_push" else ()
+        figures.append(
+            (
+                f"Reaching, top view (Sherikov Fig. 3): {label}",
+                plots.top_view_plot(
+                    trace,
+                    steps,
+                    _sole_half_extents(scale),
+                    out / f"reach_{name}_top.png",
+                    title=f"{label}: steps taken, CoM, hand, target",
+                    pushes=pushes,
+                ),
+            )
+        )
+        figures.append(
+            (
+                f"Reaching, solve time (Sherikov Fig. 2): {label}",
+                plots.solve_time_plot(
+                    trace, out / f"reach_{name}_solve.png", title=f"{label}: hierarchy solve"
+                ),
+            )
+        )
+    return figures
 
 
 def _latency_cells(table: pd.DataFrame) -> pd.DataFrame:

@@ -2,14 +2,16 @@
 
 from __future__ import annotations
 
-from collections.abc import Mapping
+from collections.abc import Mapping, Sequence
 from pathlib import Path
 
 import matplotlib
 
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt
+import numpy as np
 import pandas as pd
+from matplotlib.patches import Polygon
 
 # the trace columns `walk_plot` draws
 WALK_COLUMNS = (
@@ -85,6 +87,179 @@ def walk_plot(traces: Mapping[str, pd.DataFrame], path: str | Path) -> Path:
     axes[0][0].legend(fontsize=7, loc="upper left")
     for axis in axes[-1]:
         axis.set_xlabel("time [s]")
+    figure.tight_layout()
+    figure.savefig(path, dpi=100)
+    plt.close(figure)
+    return path
+
+
+PAPER_SOLVE_MEAN_MS = 0.92
+"""Sherikov, Dimitrov & Wieber 2014, Sec. VII-B (Fig. 2): "The average time required for
+solution of the optimization problem is equal to 0.92 (ms), when the solver is executed on
+Intel Core i5-3360M (2.80GHz) CPU"."""
+HIERARCHY_TIME_COLUMN = "t_hierarchy_us"  # the hierarchy solve per period (the runner's)
+FOOT_STYLES = {"left_foot": ("tab:green", "left foot"), "right_foot": ("tab:purple", "right foot")}
+
+
+def _xy(trace: pd.DataFrame, prefixes: tuple[str, ...]) -> tuple[np.ndarray, np.ndarray] | None:
+    """The x and y columns of the first prefix the trace has, as float arrays; None if none."""
+    for prefix in prefixes:
+        if f"{prefix}_x" in trace.columns and f"{prefix}_y" in trace.columns:
+            return (
+                trace[f"{prefix}_x"].to_numpy(dtype=float),
+                trace[f"{prefix}_y"].to_numpy(dtype=float),
+            )
+    return None
+
+
+def _sole(x: float, y: float, yaw: float, half_extents, color: str, dashed: bool = False):
+    """The sole's rectangle centred at (x, y) [m], turned by yaw [rad]."""
+    hx, hy = half_extents
+    corners = np.array([(hx, hy), (-hx, hy), (-hx, -hy), (hx, -hy)])
+    c, s = np.cos(yaw), np.sin(yaw)
+    corners = corners @ np.array([[c, s], [-s, c]]) + (x, y)
+    return Polygon(
+        corners,
+        closed=True,
+        fill=True,
+        facecolor=color,
+        alpha=0.35,
+        edgecolor=color,
+        linestyle="--" if dashed else "-",
+        linewidth=1.0,
+    )
+
+
+def top_view_plot(
+    trace: pd.DataFrame,
+    footsteps: pd.DataFrame | None,
+    sole_half_extents: tuple[float, float],
+    path: str | Path,
+    title: str = "",
+    pushes: Sequence[float] = (),
+    initial_feet: Mapping[str, tuple[float, float, float]] | None = None,
+) -> Path:
+    """Sherikov et al. 2014 Fig. 3 style top view (x forward, y left, equal axes): the steps
+    taken (`bench.footsteps` rows: limb, x_m, y_m, yaw_rad at touchdown) as sole rectangles
+    (`sole_half_extents` (x, y) [m]; left and right feet in their own colours), the feet
+    standing at the start if `initial_feet` gives them (limb -> (x, y, yaw), dashed), the CoM
+    path in black (the ground truth `com_true_*` when the trace has it, else `com_actual_*`),
+    the hand path dashed blue (`hand_actual_*`), the target path dotted red (`hand_target_*`,
+    NaN while none is active: gaps) with each position it takes marked (a target that jumps
+    between fixed points, as `reach`'s, draws no path of its own), and the CoM at each time in
+    `pushes` [s] marked."""
+    path = Path(path)
+    figure, axis = plt.subplots(figsize=(7, 5.5))
+    labelled: set[str] = set()
+
+    def add_foot(limb: str, x: float, y: float, yaw: float, dashed: bool) -> None:
+        if not all(np.isfinite((x, y, yaw))):
+            return
+        color, label = FOOT_STYLES.get(limb, ("tab:gray", str(limb)))
+        patch = _sole(x, y, yaw, sole_half_extents, color, dashed)
+        if dashed:
+            label = f"{label} (start)"
+        if label not in labelled:
+            patch.set_label(label)
+            labelled.add(label)
+        axis.add_patch(patch)
+
+    for limb, (x, y, yaw) in (initial_feet or {}).items():
+        add_foot(limb, x, y, yaw, dashed=True)
+    if footsteps is not None and len(footsteps):
+        for row in footsteps.itertuples(index=False):
+            add_foot(str(row.limb), float(row.x_m), float(row.y_m), float(row.yaw_rad), False)
+    com = _xy(trace, ("com_true", "com_actual"))
+    if com is not None:
+        axis.plot(*com, color="black", lw=1.2, label="CoM")
+        times = trace["time"].to_numpy(dtype=float) if "time" in trace.columns else None
+        if times is not None and len(times):
+            instants = [t for t in pushes if times[0] <= t <= times[-1]]
+            if instants:
+                axis.plot(
+                    np.interp(instants, times, com[0]),
+                    np.interp(instants, times, com[1]),
+                    "o",
+                    color="tab:orange",
+                    markeredgecolor="black",
+                    ms=7,
+                    label="push",
+                    zorder=5,
+                )
+    hand = _xy(trace, ("hand_actual",))
+    if hand is not None:
+        axis.plot(*hand, color="blue", ls="--", lw=1.0, label="hand")
+    target = _xy(trace, ("hand_target",))
+    if target is not None and np.isfinite(target[0]).any():
+        axis.plot(*target, color="red", ls=":", lw=2.0, label="target")
+        # a target that jumps or stands still is no visible path: its positions marked too
+        x, y = target
+        finite = np.isfinite(x) & np.isfinite(y)
+        x, y = x[finite], y[finite]
+        held = np.r_[True, (np.diff(x) != 0) | (np.diff(y) != 0)]
+        axis.plot(x[held], y[held], "x", color="red", ms=8, mew=2, label="target positions")
+    axis.set_aspect("equal", adjustable="datalim")
+    axis.autoscale_view()
+    axis.set_xlabel("x [m] (forward)")
+    axis.set_ylabel("y [m] (left)")
+    axis.set_title(title or "top view", fontsize=9)
+    axis.grid(alpha=0.3)
+    if axis.get_legend_handles_labels()[0]:
+        axis.legend(fontsize=7, loc="best")
+    figure.tight_layout()
+    figure.savefig(path, dpi=100)
+    plt.close(figure)
+    return path
+
+
+def solve_time_plot(trace: pd.DataFrame, path: str | Path, title: str = "") -> Path:
+    """Sherikov et al. 2014 Fig. 2 style: the hierarchy's solve time per control period [ms]
+    (`HIERARCHY_TIME_COLUMN`, above) and the solver's active-set iterations
+    (`solver_iterations`, below) against time, with the paper's mean (`PAPER_SOLVE_MEAN_MS`,
+    measured on its CPU) dashed; the time axis is logarithmic when the longest solve is over
+    20 times the median (and the paper's mean). A missing column leaves its axis empty."""
+    path = Path(path)
+    figure, (above, below) = plt.subplots(2, 1, figsize=(8, 5), sharex=True)
+    time = trace["time"].to_numpy(dtype=float) if "time" in trace.columns else None
+    solve_ms = None
+    if time is not None and HIERARCHY_TIME_COLUMN in trace.columns:
+        solve_ms = trace[HIERARCHY_TIME_COLUMN].to_numpy(dtype=float) / 1e3
+        above.plot(time, solve_ms, color="C0", lw=0.7, label="solve time (this machine)")
+        if np.isfinite(solve_ms).any():
+            above.axhline(
+                float(np.nanmean(solve_ms)),
+                color="C0",
+                ls=":",
+                lw=1.0,
+                label=f"mean {np.nanmean(solve_ms):.2f} ms (this machine)",
+            )
+    else:
+        above.text(0.5, 0.5, "no solve times recorded", ha="center", transform=above.transAxes)
+    above.axhline(
+        PAPER_SOLVE_MEAN_MS,
+        color="red",
+        ls="--",
+        lw=1.0,
+        label=f"paper's mean {PAPER_SOLVE_MEAN_MS} ms (Intel Core i5-3360M)",
+    )
+    above.set_ylabel("solve time [ms]")
+    finite = solve_ms[np.isfinite(solve_ms) & (solve_ms > 0)] if solve_ms is not None else []
+    if len(finite) and finite.max() > 20 * max(np.median(finite), PAPER_SOLVE_MEAN_MS):
+        above.set_yscale("log")  # rare long solves would flatten the rest and the paper's line
+    else:
+        above.set_ylim(bottom=0.0)
+    above.grid(alpha=0.3)
+    above.legend(fontsize=7, loc="upper right")
+    above.set_title(title or "hierarchy solve", fontsize=9)
+    if time is not None and "solver_iterations" in trace.columns:
+        below.step(
+            time, trace["solver_iterations"].to_numpy(dtype=float), where="post", color="C1", lw=0.7
+        )
+    else:
+        below.text(0.5, 0.5, "no iterations recorded", ha="center", transform=below.transAxes)
+    below.set_ylabel("solver iterations")
+    below.set_xlabel("time [s]")
+    below.grid(alpha=0.3)
     figure.tight_layout()
     figure.savefig(path, dpi=100)
     plt.close(figure)

@@ -11,6 +11,7 @@ the median over them (the mean for the projection errors, which are means alread
 from __future__ import annotations
 
 import math
+from collections.abc import Mapping
 
 import numpy as np
 import pandas as pd
@@ -240,3 +241,89 @@ def speed_table(trials: pd.DataFrame) -> pd.DataFrame:
             )
         result.append(row)
     return pd.DataFrame(result, columns=columns)
+
+
+REACH_SCENARIOS = ("reach", "reach_push")
+REACH_PASS_HAND_ERROR_M = 0.02
+"""bench.scenarios.REACH_PASS_HAND_ERROR_M (reports/ imports nothing of bench/; a test checks
+that the two agree): a reach is passed with no fall and a final hand error under this [m]."""
+REACH_PUSH_TIMES_S = (2.5, 7.0)
+"""The times [s] of `reach_push`'s pushes (bench.scenarios.REACH_PUSHES; a test checks)."""
+SOLVE_STATS = ("mean", "p99", "max")
+
+
+def reaches(episodes: pd.DataFrame) -> pd.DataFrame:
+    """The rows of Sherikov et al. 2014's Tests 1 and 2 (scenarios `reach`, `reach_push`)."""
+    return episodes[episodes["scenario"].isin(REACH_SCENARIOS)]
+
+
+def solve_time_stats(trace: pd.DataFrame, column: str = "t_hierarchy_us") -> dict[str, float]:
+    """Mean, p99 and max [µs] of a trace's per-period times in `column` (NaN periods left
+    out, as the runner's `latency_us` summary does); empty when there are none."""
+    if column not in trace.columns:
+        return {}
+    values = trace[column].to_numpy(dtype=float)
+    values = values[~np.isnan(values)]
+    if not len(values):
+        return {}
+    return {
+        "mean": float(values.mean()),
+        "p99": float(np.percentile(values, 99)),
+        "max": float(values.max()),
+    }
+
+
+def reach_table(
+    episodes: pd.DataFrame, solve_times: Mapping[str, Mapping[str, float]] | None = None
+) -> pd.DataFrame:
+    """Sherikov et al. 2014's Tests 1-2, one row per `reach` / `reach_push` episode: status,
+    final hand error [cm], steps taken, pass (status ok and a final hand error under
+    `REACH_PASS_HAND_ERROR_M`: "yes" / "no") and the hierarchy's solve time per period [ms]
+    (mean, p99, max). Solve times come from `solve_times` (episode id -> {mean, p99, max} [µs],
+    `solve_time_stats` of its stored trace), else from the row's `lat_hierarchy_{stat}_us`
+    columns where it has them (the episode rows of this version keep no hierarchy latency);
+    a number that is in neither is left empty (NaN)."""
+    columns = [
+        *KEYS,
+        "scenario",
+        "seed",
+        "status",
+        "hand error cm",
+        "steps",
+        "pass",
+        *(f"solve {stat} ms" for stat in SOLVE_STATS),
+    ]
+    rows = reaches(episodes)
+    if rows.empty:
+        return pd.DataFrame(columns=columns)
+    sort = [c for c in (*KEYS, "scenario", "seed", "episode_id") if c in rows.columns]
+    result = []
+    for _, row in rows.sort_values(sort).iterrows():
+        error = _number(row.get("hand_error_final_m"))
+        stored = (solve_times or {}).get(row.get("episode_id"), {})
+        entry = {
+            "controller": row["controller"],
+            "sim": row["sim"],
+            "scenario": row["scenario"],
+            "seed": row.get("seed"),
+            "status": row["status"],
+            "hand error cm": 100.0 * error,
+            "steps": _number(row.get("steps_taken")),
+            "pass": "yes" if row["status"] == "ok" and error < REACH_PASS_HAND_ERROR_M else "no",
+        }
+        for stat in SOLVE_STATS:
+            value = stored.get(stat)
+            if value is None:
+                value = row.get(f"lat_hierarchy_{stat}_us")
+            entry[f"solve {stat} ms"] = _number(value) / 1e3
+        result.append(entry)
+    return pd.DataFrame(result, columns=columns)
+
+
+def _number(value) -> float:
+    """A float, NaN for None / NA / anything not a number."""
+    try:
+        number = float(value)
+    except (TypeError, ValueError):
+        return math.nan
+    return number
