@@ -495,8 +495,13 @@ def build_parser() -> argparse.ArgumentParser:
     )
 
     report = commands.add_parser("report", help="build report.md and report.html from results")
-    report.add_argument("results", help="a sweep's result directory")
-    report.add_argument("--out", default=None, help="output directory (default: RESULTS)")
+    report.add_argument(
+        "results",
+        nargs="+",
+        help="a sweep's result directory, or several to report together (for example the "
+        "main job's and a sweep of a controller that is not in it)",
+    )
+    report.add_argument("--out", default=None, help="output directory (default: the first RESULTS)")
     report.add_argument(
         "--benchmark-json", default=None, help="a pytest-benchmark JSON file to add as a table"
     )
@@ -954,7 +959,7 @@ def _speed(args: argparse.Namespace) -> int:
 def _report(args: argparse.Namespace) -> int:
     from reports.build import build_report
 
-    out = args.out or args.results
+    out = args.out or args.results[0]
     try:
         paths = build_report(args.results, out, benchmark_json=args.benchmark_json)
     except FileNotFoundError as exc:

@@ -9,6 +9,7 @@ import datetime
 import html
 import json
 import re
+from collections.abc import Sequence
 from pathlib import Path
 
 import pandas as pd
@@ -60,6 +61,41 @@ def read_results(root: str | Path) -> tuple[pd.DataFrame, dict | None, list[str]
     if not isinstance(record, dict) or not isinstance(record.get("spec"), dict):
         record = None
     return episodes, record, notes
+
+
+RESULTS_DIR = "results_dir"
+"""The column `read_all_results` adds: the directory an episode row was read from (its traces
+are there)."""
+
+
+def read_all_results(
+    roots: Sequence[str | Path],
+) -> tuple[pd.DataFrame, list[dict | None], list[str]]:
+    """`read_results` of several result directories (sweeps run apart, for example the main job
+    and a controller that is not in it), as one table with the column `RESULTS_DIR`; their
+    records in order; the notes. An episode id in two directories is counted once (the first
+    directory's) with a note; a directory without results raises as `read_results` does."""
+    frames, records, notes = [], [], []
+    seen: dict[str, Path] = {}
+    for root in (Path(r) for r in roots):
+        episodes, record, root_notes = read_results(root)
+        prefix = f"{root}: " if len(roots) > 1 else ""
+        notes += [prefix + note for note in root_notes]
+        twice = episodes["episode_id"].isin(list(seen))
+        for episode_id in episodes.loc[twice, "episode_id"]:
+            notes.append(
+                f"episode {episode_id} is in {seen[episode_id]} and {root}: kept the first"
+            )
+        episodes = episodes[~twice].assign(**{RESULTS_DIR: str(root)})
+        seen.update(dict.fromkeys(episodes["episode_id"], root))
+        frames.append(episodes)
+        records.append(record)
+    episodes = pd.concat(frames, ignore_index=True).sort_values("episode_id", ignore_index=True)
+    return episodes, records, notes
+
+
+def _trace_dir(row: pd.Series) -> Path:
+    return Path(row[RESULTS_DIR]) / "traces"
 
 
 def survival_time_s(record: dict | None) -> float:
@@ -197,9 +233,13 @@ def sections(
 
 
 def build_report(
-    results: str | Path, out: str | Path, benchmark_json: str | Path | None = None
+    results: str | Path | Sequence[str | Path],
+    out: str | Path,
+    benchmark_json: str | Path | None = None,
 ) -> list[Path]:
-    """Write report.md, report.html and the figures into `out`; returns their paths."""
+    """Write report.md, report.html and the figures into `out`; returns their paths. `results`:
+    one result directory, or several whose episodes are reported together (`read_all_results`;
+    the sweep record of the first is the header's)."""
     benchmark = None
     if benchmark_json is not None:  # first: a bad file fails before anything is read or made
         path = Path(benchmark_json)
@@ -229,18 +269,35 @@ def build_report(
                     else f"a JSON {type(benchmark).__name__.replace('NoneType', 'null')}"
                 )
             )
-    episodes, record, notes = read_results(results)
+    roots = [Path(results)] if isinstance(results, str | Path) else [Path(r) for r in results]
+    if not roots:
+        raise FileNotFoundError("no result directory given")
+    episodes, records, notes = read_all_results(roots)
+    record = records[0]
+    windows = {survival_time_s(r) for r in records}
+    if len(windows) > 1:
+        notes.append(
+            "the sweeps judged survival over different windows after a push: "
+            + ", ".join(f"{w:g} s" for w in sorted(windows))
+            + f"; the header says the first's ({survival_time_s(record):g} s)"
+        )
     out = Path(out)
     out.mkdir(parents=True, exist_ok=True)
     info = header(episodes, record)
-    reach_traces = _reach_traces(Path(results), episodes, notes)
+    if len(roots) > 1:
+        info["result directories"] = ", ".join(str(r) for r in roots)
+        info["sweep spec"] = "; ".join(
+            json.dumps(r["spec"], sort_keys=True) if r else "?" for r in records
+        )
+    reach_traces = _reach_traces(episodes, notes)
     solve_times = {
         episode_id: stats
         for episode_id, (_, trace, _) in reach_traces.items()
         if (stats := tables.solve_time_stats(trace, plots.HIERARCHY_TIME_COLUMN))
     }
     parts = sections(episodes, benchmark, survival_time_s(record), solve_times)
-    speed = _speed_trials(Path(results), notes)
+    trials = [t for t in (_speed_trials(root, notes) for root in roots) if t is not None]
+    speed = pd.concat(trials, ignore_index=True) if trials else None
     if speed is not None:
         parts.append(
             (
@@ -259,7 +316,7 @@ def build_report(
         figures.append(
             ("Standing push survival against dv", plots.survival_plot(rates, out / "survival.png"))
         )
-    walk_traces = _walk_traces(Path(results), episodes, notes)
+    walk_traces = _walk_traces(episodes, notes)
     if walk_traces:
         figures.append(
             (
@@ -277,7 +334,7 @@ def build_report(
     return [md, page, *(path for _, path in figures)]
 
 
-def _walk_traces(root: Path, episodes: pd.DataFrame, notes: list[str]) -> dict[str, pd.DataFrame]:
+def _walk_traces(episodes: pd.DataFrame, notes: list[str]) -> dict[str, pd.DataFrame]:
     """One walk trace per controller (MuJoCo's when there is one); a trace that cannot be
     read or lacks the plotted columns is skipped with a note in `notes`."""
     walks = tables.walks(episodes)
@@ -285,7 +342,7 @@ def _walk_traces(root: Path, episodes: pd.DataFrame, notes: list[str]) -> dict[s
     result = {}
     for controller, group in walks.sort_values(["controller", "sim"]).groupby("controller"):
         row = group.iloc[0]
-        path = root / "traces" / f"{row['episode_id']}.parquet"
+        path = _trace_dir(row) / f"{row['episode_id']}.parquet"
         if not path.exists():
             continue
         try:
@@ -302,7 +359,7 @@ def _walk_traces(root: Path, episodes: pd.DataFrame, notes: list[str]) -> dict[s
 
 
 def _reach_traces(
-    root: Path, episodes: pd.DataFrame, notes: list[str]
+    episodes: pd.DataFrame, notes: list[str]
 ) -> dict[str, tuple[pd.Series, pd.DataFrame, pd.DataFrame | None]]:
     """Per reach / reach_push episode with a stored trace: (its row, its trace, its steps
     taken or None). A trace that cannot be read is skipped with a note in `notes`; a steps
@@ -313,7 +370,7 @@ def _reach_traces(
     result = {}
     for _, row in rows.sort_values(["controller", "sim", "scenario", "episode_id"]).iterrows():
         episode_id = row["episode_id"]
-        path = root / "traces" / f"{episode_id}.parquet"
+        path = _trace_dir(row) / f"{episode_id}.parquet"
         if not path.exists():
             continue
         try:
@@ -324,7 +381,7 @@ def _reach_traces(
         if "time" not in trace.columns:
             notes.append(f"traces/{path.name}: no time column, not plotted")
             continue
-        steps_path = root / "traces" / f"{episode_id}.footsteps.parquet"
+        steps_path = _trace_dir(row) / f"{episode_id}.footsteps.parquet"
         steps = None
         if not steps_path.exists():
             notes.append(f"traces/{steps_path.name}: missing, steps not drawn")

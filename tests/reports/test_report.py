@@ -383,3 +383,73 @@ def test_latency_against_the_papers_figures_for_the_controllers_that_have_one():
     assert table.loc["direct_centroidal", "ratio"] == pytest.approx(2.0)
     assert table.loc["direct_centroidal/no_inertia", "ratio"] == pytest.approx(3.0)
     assert (table["paper µs"] == 143.0).all()
+
+
+def test_several_result_directories_make_one_report(results, tmp_path: Path):
+    """A sweep of a controller that is not in the main job, reported beside it: `centrobench
+    report MAIN OTHER` puts both directories' push survival in one table (same levels), finds
+    each walk's trace in its own directory, and counts an episode present in both once."""
+    from bench.cli import build_parser
+    from reports.build import _walk_traces, read_all_results
+
+    root, fixture = results
+    other = tmp_path / "other"
+    store = ResultStore(other)
+    store.prepare({"name": "other"}, "digest2", resume=False, overwrite=False)
+    survived = (3, 0)  # of PUSHES, per level
+    for dv, alive_count in zip(LEVELS, survived, strict=True):
+        for k in range(PUSHES):
+            alive = k < alive_count
+            store.write(
+                _row(
+                    episode_id=f"c+z-mujoco-{dv}-{k}",
+                    controller="c+z",
+                    planner="c",
+                    stabilizer="z",
+                    sim="mujoco",
+                    scenario="stand_push",
+                    push_phase="standing",
+                    push_dv_mps=dv,
+                    push_index=k,
+                    push_impulse_Ns=MASS * dv,
+                    status="ok" if alive else "fell",
+                    fell=not alive,
+                    survived=alive,
+                ),
+                None,
+            )
+    time = np.arange(0.0, 1.0, 0.002)
+    trace = pd.DataFrame({"time": time})
+    for prefix in ("com_ref", "com_planned", "com_actual", "zmp_planned", "zmp_actual"):
+        trace[f"{prefix}_x"] = 0.2 * time
+        trace[f"{prefix}_y"] = 0.0
+    walk = _row(
+        episode_id="c+z-mujoco-walk", controller="c+z", planner="c", stabilizer="z",
+        sim="mujoco", scenario="walk", status="ok", fell=False, com_error_rms_m=0.007,
+    )  # fmt: skip
+    store.write(walk, trace)
+    duplicate = fixture.iloc[0].to_dict()  # the first directory's episode, again
+    store.write({**duplicate, "status": "error"}, None)
+
+    episodes, records, notes = read_all_results([root, other])
+    assert len(episodes) == len(fixture) + PUSHES * len(LEVELS) + 1
+    assert [r["spec"]["name"] for r in records] == ["fixture", "other"]
+    assert any(duplicate["episode_id"] in note and "kept the first" in note for note in notes)
+    kept = episodes[episodes["episode_id"] == duplicate["episode_id"]]
+    assert list(kept["status"]) == [duplicate["status"]]
+    table = tables.survival_table(episodes, "standing")
+    labels = [tables.level_label(dv, MASS * dv) for dv in LEVELS]
+    row = table[table["controller"] == "c+z"].iloc[0]
+    assert [row[label] for label in labels] == [f"{k}/{PUSHES}" for k in survived]
+    assert len(table) == len(SURVIVED) + 1
+    walks = _walk_traces(episodes, [])
+    assert any(label.startswith("c+z (mujoco") for label in walks)
+    assert any(label.startswith("a+x (mujoco") for label in walks)
+
+    paths = build_report([root, other], tmp_path / "report")
+    markdown = paths[0].read_text()
+    assert "| c+z " in markdown
+    assert "kept the first" in markdown
+    assert str(other) in markdown
+    args = build_parser().parse_args(["report", str(root), str(other), "--out", "x"])
+    assert args.results == [str(root), str(other)]
