@@ -49,6 +49,7 @@ LATENCY_STAGES = (
     "projection",
     "distribution",
     "centroidal_total",
+    "centroidal_control",
 )
 
 _STRING, _FLOAT, _INT, _BOOL = pa.string(), pa.float64(), pa.int64(), pa.bool_()

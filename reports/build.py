@@ -154,8 +154,10 @@ def sections(
         ),
         (
             "Latency per stage (Murooka Table IV)",
-            "Median and p99 per control period [µs] in each walk: the Table IV rows (reference, "
-            "preview, projection, distribution and their total) and the loop's stages.",
+            "Median and p99 per control period [µs] in each walk: Table IV's rows (Total "
+            "control = centroidal_control, the planner and the stabilizer with the feedback "
+            "and damping; reference, preview, projection, distribution and centroidal_total, "
+            "their sum) and the loop's stages.",
             _latency_cells(tables.latency_table(episodes)),
         ),
         (

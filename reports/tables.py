@@ -17,7 +17,14 @@ import numpy as np
 import pandas as pd
 
 KEYS = ["controller", "sim"]
-TABLE_IV_STAGES = ("reference", "preview", "projection", "distribution", "centroidal_total")
+TABLE_IV_STAGES = (
+    "centroidal_control",  # Table IV's "Total control" (planner + stabilizer)
+    "reference",
+    "preview",
+    "projection",
+    "distribution",
+    "centroidal_total",  # the sum of the four rows above
+)
 LOOP_STAGES = ("planner", "stabilizer", "whole_body", "control_total")
 PROJECTION_COLUMNS = (
     "planned_force_N",
@@ -43,7 +50,9 @@ def latency_table(episodes: pd.DataFrame) -> pd.DataFrame:
     columns = []
     for stage in (*TABLE_IV_STAGES, *LOOP_STAGES):
         columns += [f"lat_{stage}_median_us", f"lat_{stage}_p99_us"]
-    table = walks(episodes).groupby(KEYS, sort=True)[columns].median().reset_index()
+    # rows of result sets written before a stage was recorded have no column for it
+    table = walks(episodes).reindex(columns=[*KEYS, *columns])
+    table = table.groupby(KEYS, sort=True)[columns].median().reset_index()
     table.columns = [
         c.removeprefix("lat_").replace("_median_us", " median µs").replace("_p99_us", " p99 µs")
         for c in table.columns

@@ -81,6 +81,11 @@ def test_summary_has_table_iv_rows_and_projection_errors(walks, run):
     # centroidal_total is the per-period sum of the four Table IV rows
     parts = trace[[f"t_{r}_us" for r in ("reference", "preview", "projection", "distribution")]]
     np.testing.assert_allclose(trace["t_centroidal_total_us"], parts.sum(axis=1), rtol=1e-9)
+    # Table IV's "Total control" is the planner and the stabilizer, which contain those rows
+    stages = trace["t_planner_us"] + trace["t_stabilizer_us"]
+    np.testing.assert_allclose(trace["t_centroidal_control_us"], stages, rtol=1e-9)
+    assert (trace["t_centroidal_control_us"] >= trace["t_centroidal_total_us"]).all()
+    assert "centroidal_control" in summary["latency_us"]
 
 
 def test_reference_follows_the_contact_sequence():
