@@ -105,6 +105,9 @@ ROW_SCHEMA = pa.schema(
         ("touchdown_position_error_max_m", _FLOAT),
         ("final_yaw_error_rad", _FLOAT),
         ("hand_error_final_m", _FLOAT),
+        ("angular_momentum_error_base_vs_constant", _FLOAT),
+        ("angular_momentum_error_all_vs_constant", _FLOAT),
+        ("angular_momentum_error_constant_vs_euler", _FLOAT),
         ("solver_iterations_mean", _FLOAT),
         ("solver_iterations_max", _FLOAT),
         ("e_com", _FLOAT),
@@ -177,6 +180,8 @@ def summary_row(
         if key in summary:
             row[key] = summary[key]
     row.update(summary.get("projection_error") or {})
+    for key, value in (summary.get("angular_momentum_error") or {}).items():
+        row[f"angular_momentum_error_{key}"] = value
     iterations = summary.get("solver_iterations") or {}
     row["solver_iterations_mean"] = iterations.get("mean")
     row["solver_iterations_max"] = iterations.get("max")

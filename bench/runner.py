@@ -33,6 +33,8 @@ from bench.footsteps import (
     compare_with_plan,
     footstep_summary,
 )
+from bench.momentum import EVERY as MOMENTUM_EVERY
+from bench.momentum import AngularMomentumErrors
 from bench.provenance import provenance
 from bench.scenarios import make_scenario
 from centroidal.rotations import to_matrix, yaw_of
@@ -245,6 +247,7 @@ def run_episode(spec: EpisodeSpec, progress: MutableSequence[float] | None = Non
         "touchdown_position_error_max_m": None,
         "final_yaw_error_rad": None,
         "hand_error_final_m": None,
+        "angular_momentum_error": None,
     }
     trace = _Trace(0, ())
     sim = None
@@ -291,6 +294,7 @@ def run_episode(spec: EpisodeSpec, progress: MutableSequence[float] | None = Non
         lambda limb: _sole_pose(model, sim, limb),
     )
     planned_steps = PlannedFootstepRecorder()
+    momentum = AngularMomentumErrors(model)  # Murooka Sec. V-F, from the ground truth
     stage = "setup"
     wall_start = time.perf_counter()
     com_true_start = com_true_end = None  # [m] ground truth: walked, whatever was estimated
@@ -319,6 +323,8 @@ def run_episode(spec: EpisodeSpec, progress: MutableSequence[float] | None = Non
             timings["estimator"] = time.perf_counter_ns() - start
             _check_finite("estimator", state.base_position_world, state.com_position_world)
             true_state = sensors.ground_truth()  # for the record only
+            if k % MOMENTUM_EVERY == 0:
+                momentum.observe(true_state)
             if hand_frame is None:
                 com_true = model.com_state_world(true_state)
             else:  # the palm from the same forward-kinematics pass
@@ -411,6 +417,7 @@ def run_episode(spec: EpisodeSpec, progress: MutableSequence[float] | None = Non
             "p99": float(np.percentile(iterations, 99)),
             "max": float(iterations.max()),
         }
+    summary["angular_momentum_error"] = momentum.summary()
     if "hand_error_m" in frame and len(frame):
         last = float(frame["hand_error_m"].iloc[-1])
         summary["hand_error_final_m"] = last if math.isfinite(last) else None

@@ -40,3 +40,24 @@ register(
         "IK joint targets to the position servos, no feed-forward torque (Murooka Sec. V-A1)",
     )
 )
+
+
+IK_ANGULAR_MOMENTUM_WEIGHT = 100.0
+"""`ik_angular_momentum`'s weight on the centroidal angular momentum of the IK's step, I_all dq
+-> 0 (Murooka Sec. V-F: "adding the angular momentum task [1] to the whole-body IK"; the paper
+gives no weight: ours, as the IK's other weights, dimensionless on dq [rad or m])."""
+
+
+def _ik_angular_momentum(model: RobotModel, dt: float) -> IkLayer:
+    layer = IkLayer(model, dt, IKWeights(angular_momentum=IK_ANGULAR_MOMENTUM_WEIGHT))
+    layer.name = "ik_angular_momentum"
+    return layer
+
+
+register(
+    ComponentSpec(
+        "ik_angular_momentum",
+        _ik_angular_momentum,
+        "`ik` with the centroidal angular momentum task (Murooka Sec. V-F's option)",
+    )
+)
