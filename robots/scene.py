@@ -7,6 +7,7 @@ from __future__ import annotations
 import bisect
 import functools
 import itertools
+import math
 from dataclasses import dataclass
 
 import numpy as np
@@ -25,10 +26,103 @@ class Box:
 
 
 @dataclass(frozen=True)
+class MovingBox:
+    """A box moving periodically about a mean pose, the same prescribed motion in every
+    simulator (a kinematic body: contacts push the robot, nothing pushes the box).
+
+    Mean pose: `center_world` [m] and `orientation_world` (w, x, y, z); `half_extents` [m].
+    With s(t) = e(t) sin(2 pi t / period + phase), where the envelope e(t) = sin^2(pi t /
+    (2 ramp_time)) rises smoothly from 0 to 1 over the first `ramp_time` [s] (e = 1 when
+    `ramp_time` is 0, and for t >= ramp_time; e(0) = e'(0) = 0, so a box that ramps starts at
+    its mean pose at rest):
+    - centre(t) = center_world + translation_amplitude_world s(t) [m];
+    - orientation(t) = R(rotation_axis_world, rotation_amplitude s(t)) orientation_world: a
+      rotation by the angle rotation_amplitude s(t) [rad] about the unit world axis
+      `rotation_axis_world` through the box's centre, applied after the mean orientation.
+    `pose_at` and `velocity_at` give them and their derivatives (`sims` move the box along
+    them every physics step)."""
+
+    name: str
+    center_world: tuple[float, float, float]
+    half_extents: tuple[float, float, float]
+    orientation_world: tuple[float, float, float, float] = (1.0, 0.0, 0.0, 0.0)
+    translation_amplitude_world: tuple[float, float, float] = (0.0, 0.0, 0.0)
+    rotation_axis_world: tuple[float, float, float] = (0.0, 0.0, 1.0)
+    rotation_amplitude: float = 0.0
+    period: float = 2.0
+    phase: float = 0.0
+    ramp_time: float = 0.0
+
+    def _profile(self, time: float) -> tuple[float, float]:
+        """s(t) and ds/dt [1/s] (Python-float arithmetic: the same numbers in every caller)."""
+        omega = 2.0 * math.pi / self.period
+        angle = omega * time + self.phase
+        wave, wave_rate = math.sin(angle), omega * math.cos(angle)
+        if self.ramp_time <= 0.0 or time >= self.ramp_time:
+            return wave, wave_rate
+        if time <= 0.0:
+            return 0.0, 0.0
+        x = 0.5 * math.pi * time / self.ramp_time
+        envelope = math.sin(x) ** 2
+        envelope_rate = math.sin(2.0 * x) * 0.5 * math.pi / self.ramp_time
+        return envelope * wave, envelope_rate * wave + envelope * wave_rate
+
+    def _axis(self) -> tuple[float, float, float]:
+        ax, ay, az = self.rotation_axis_world
+        norm = math.sqrt(ax * ax + ay * ay + az * az)
+        return ax / norm, ay / norm, az / norm
+
+    def pose_at(self, time: float) -> tuple[np.ndarray, np.ndarray]:
+        """The box's centre [m] and orientation (w, x, y, z), unit, at `time` [s]."""
+        s, _ = self._profile(time)
+        cx, cy, cz = self.center_world
+        tx, ty, tz = self.translation_amplitude_world
+        center = np.array([cx + tx * s, cy + ty * s, cz + tz * s])
+        half = 0.5 * self.rotation_amplitude * s
+        nx, ny, nz = self._axis()
+        aw, sin_half = math.cos(half), math.sin(half)
+        ax, ay, az = nx * sin_half, ny * sin_half, nz * sin_half
+        bw, bx, by, bz = self.orientation_world
+        q = (
+            aw * bw - ax * bx - ay * by - az * bz,
+            aw * bx + ax * bw + ay * bz - az * by,
+            aw * by - ax * bz + ay * bw + az * bx,
+            aw * bz + ax * by - ay * bx + az * bw,
+        )
+        norm = math.sqrt(q[0] * q[0] + q[1] * q[1] + q[2] * q[2] + q[3] * q[3])
+        return center, np.array([q[0] / norm, q[1] / norm, q[2] / norm, q[3] / norm])
+
+    def velocity_at(self, time: float) -> tuple[np.ndarray, np.ndarray]:
+        """The centre's velocity [m/s] and the box's angular velocity [rad/s], both in the
+        world frame, at `time` [s]."""
+        _, rate = self._profile(time)
+        tx, ty, tz = self.translation_amplitude_world
+        nx, ny, nz = self._axis()
+        spin = self.rotation_amplitude * rate
+        return np.array([tx * rate, ty * rate, tz * rate]), np.array(
+            [nx * spin, ny * spin, nz * spin]
+        )
+
+    def validate(self) -> None:
+        if not (math.isfinite(self.period) and self.period > 0):
+            raise ValueError(
+                f"moving box {self.name!r}: period must be positive, got {self.period}"
+            )
+        if not (math.isfinite(self.ramp_time) and self.ramp_time >= 0):
+            raise ValueError(
+                f"moving box {self.name!r}: ramp_time must be >= 0, got {self.ramp_time}"
+            )
+        if math.hypot(*self.rotation_axis_world) < 1e-12:
+            raise ValueError(f"moving box {self.name!r}: rotation_axis_world must not be zero")
+
+
+@dataclass(frozen=True)
 class Scene:
     """friction: Coulomb coefficient of every contact (robot-ground and robot-box); gravity
     [m/s^2] (world Z up); physics_dt [s] of one simulator step; control_dt [s] of one
-    `Simulator.step` (an integer number of physics steps)."""
+    `Simulator.step` (an integer number of physics steps); `boxes` static, `moving_boxes`
+    moved along their prescribed motion at every physics step (`MovingBox`). Box names are
+    unique across both."""
 
     boxes: tuple[Box, ...] = ()
     friction: float = 0.6
@@ -38,6 +132,7 @@ class Scene:
     ground: bool = True
     max_tilt: float = np.deg2rad(30.0)
     """Base tilt [rad] above which the robot counts as fallen."""
+    moving_boxes: tuple[MovingBox, ...] = ()
 
     @property
     def substeps(self) -> int:
@@ -55,6 +150,12 @@ class Scene:
         if self.physics_dt <= 0:
             raise ValueError(f"physics_dt must be positive, got {self.physics_dt}")
         _ = self.substeps
+        names = [box.name for box in (*self.boxes, *self.moving_boxes)]
+        if len(set(names)) != len(names):
+            repeated = sorted({name for name in names if names.count(name) > 1})
+            raise ValueError(f"box names must be unique, repeated: {', '.join(repeated)}")
+        for box in self.moving_boxes:
+            box.validate()
 
 
 @dataclass(frozen=True)

@@ -45,6 +45,7 @@ class Simulator(Protocol):
     def fall_reason(self) -> str | None: ...
     def mass_properties(self) -> MassProperties: ...
     def frame_positions_world(self, names: list[str]) -> np.ndarray: ...
+    def scene_boxes_world(self) -> dict[str, tuple[np.ndarray, np.ndarray, np.ndarray]]: ...
     def close(self) -> None: ...
 
 
@@ -161,6 +162,7 @@ class SimulatorBase(abc.ABC):
         self._last_torque = np.zeros(0)
         self._limb_links: frozenset[str] = frozenset()
         self._substeps = 1
+        self._moving_boxes = False  # the scene has moving boxes (`_move_boxes`)
         self._checks = np.zeros(4)
         """What a backend's sensor kernel found for the current state, when `_checks_fresh`:
         the base's `tilt_angle` [rad], the number of scene contacts on links that are not
@@ -189,6 +191,12 @@ class SimulatorBase(abc.ABC):
         frame) applied at the named links' centres of mass; `last`: the control period's last
         physics step (the one that finite-difference sensors span)."""
 
+    def _move_boxes(self, time: float) -> None:
+        """Put the scene's moving boxes at their prescribed pose and velocity at `time` [s]
+        (`robots.scene.MovingBox.pose_at`, `velocity_at`); called after loading (time 0) and
+        after every physics step, and only for a scene that has moving boxes."""
+        raise NotImplementedError(f"{self.name} cannot move boxes")
+
     @abc.abstractmethod
     def _read_sensors(self) -> Sensors:
         """Sensors for the current state (time, torques from `self`)."""
@@ -216,12 +224,17 @@ class SimulatorBase(abc.ABC):
         self._last_torque = np.zeros(robot.n_joints)
         self._limb_links = frozenset(limb.link for limb in robot.limbs)
         self._substeps = scene.substeps
+        self._moving_boxes = bool(scene.moving_boxes)
         self._load(robot, scene)
+        if self._moving_boxes:
+            self._move_boxes(0.0)
         self.set_state(initial)
         return self._read_sensors()
 
     def step(self, command: JointCommand) -> Sensors:
-        """Advance one control period: the servo law and pushes at every physics step."""
+        """Advance one control period: the servo law and pushes at every physics step, and
+        after each physics step the moving boxes put at their pose at the new time (so that
+        the engine always holds the boxes' pose at `self.time`)."""
         assert self.robot is not None and self.scene is not None, "reset() first"
         substeps, physics_dt = self._substeps, self.scene.physics_dt
         servo = (
@@ -233,7 +246,7 @@ class SimulatorBase(abc.ABC):
         )
         self.engine_ns = 0
         joint_state, physics_step, limit = self._joint_state, self._physics_step, self._torque_limit
-        last = substeps - 1
+        last, moving = substeps - 1, self._moving_boxes
         for substep in range(substeps):
             q, dq = joint_state()
             torque = servo_torque_kernel(*servo, q, dq, limit)  # `servo_torque`
@@ -247,6 +260,8 @@ class SimulatorBase(abc.ABC):
                 physics_step(torque, _NO_FORCES, substep == last)
             self._last_torque = torque
             self.time += physics_dt
+            if moving:
+                self._move_boxes(self.time)
         sensors = self._read_sensors()
         if not self._state_finite(sensors):
             raise SimulatorError(f"{self.name}: non-finite state at t = {self.time:.3f} s")

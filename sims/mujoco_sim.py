@@ -6,6 +6,18 @@ Physics settings (identical intent to `sims.pybullet_sim`; see README "Simulator
   torsional or rolling friction: Bullet has none by default), friction = scene.friction;
 - contact softness solref = (0.005 s, 1.0) (stiffer than MuJoCo's default 0.02 s, as fine as a
   1 ms step allows: timeconst >= 2 dt), solimp default; no joint armature, damping or friction.
+
+Moving boxes (`robots.scene.MovingBox`): each is a body with a free joint whose position and
+velocity are overwritten at every physics step with the prescribed motion (`_move_boxes`), not
+a mocap body: MuJoCo gives mocap bodies no velocity in the constraint solver, so friction does
+not carry what stands on them (measured: a cube on a mocap plate moving 20 mm sideways stayed
+put, at x = 0 to 1e-5 m, while the plate moved under it). The free joint's velocity is in the
+contact's relative velocity; its armature (`MOVING_BOX_ARMATURE`) makes the contact forces
+unable to move it within a step, and gravity is compensated (`gravcomp`). The armature also
+inflates `stat.meaninertia` (4.1 -> 4.8e4 in `moving_contacts`), which scales the solver's
+tolerance: measured to change nothing (the robot holding its posture on the moving floors of
+`moving_contacts` for 1.8 s is bit for bit the same with meaninertia set back to the robot's
+value; the solver takes 1-4 iterations a step in both).
 """
 
 from __future__ import annotations
@@ -32,6 +44,16 @@ from sims.sensor_buffer import SensorLayout
 
 CONTACT_SOLREF = (0.005, 1.0)
 SCENE_CONTYPE, SCENE_CONAFFINITY = 0, 1
+MOVING_PREFIX = "moving_"
+"""Name prefix of a moving box's body and free joint (its geom is `box_<name>`, as a static
+box's)."""
+MOVING_BOX_ARMATURE = 1.0e5
+"""[kg, kg m^2] on each of a moving box's six degrees of freedom: a robot's 600 N moves it by
+600 / 1e5 x dt^2 = 6e-9 m and 6e-6 m/s within a 1 ms step, before `_move_boxes` puts it back
+on its path. Measured (the robot holding its posture 2 s on a plate moving 20 mm and 2 deg):
+1e4, 1e5 and 1e6 give base paths within 0.005 mm of each other (1.03-1.06 solver iterations a
+step); from 1e7 on MuJoCo's solver stops earlier (0.83 iterations a step at 1e7, 0.1 at 1e8)
+and the path moves by 0.1 mm (1e7) to 0.8 mm (1e10)."""
 
 # MuJoCo's warnings that mean the physics can no longer be trusted. On a bad acceleration,
 # position or velocity MuJoCo resets the state to the model's default pose and carries on
@@ -88,6 +110,26 @@ def build_model(robot: RobotDescription, scene: Scene) -> mujoco.MjModel:
                 quat=list(box.orientation_world),
             )
         )
+    for box in scene.moving_boxes:
+        center, quaternion = box.pose_at(0.0)
+        body = world.add_body(
+            name=MOVING_PREFIX + box.name, pos=center.tolist(), quat=quaternion.tolist()
+        )
+        # 1 kg of uniform box (the armature dominates), weight compensated
+        hx, hy, hz = box.half_extents
+        body.explicitinertial = True
+        body.mass = 1.0
+        body.inertia = [(hy * hy + hz * hz) / 3, (hx * hx + hz * hz) / 3, (hx * hx + hy * hy) / 3]
+        body.gravcomp = 1.0
+        joint = body.add_freejoint(name=MOVING_PREFIX + box.name)
+        joint.armature = MOVING_BOX_ARMATURE
+        scene_geoms.append(
+            body.add_geom(
+                name=f"box_{box.name}",
+                type=mujoco.mjtGeom.mjGEOM_BOX,
+                size=list(box.half_extents),
+            )
+        )
     for geom in scene_geoms:
         geom.contype, geom.conaffinity = SCENE_CONTYPE, SCENE_CONAFFINITY
         geom.friction = [scene.friction, 0.0, 0.0]
@@ -139,14 +181,24 @@ class MujocoSimulator(SimulatorBase):
         self._limb_pushed = False  # a push acts on a limb's body (see `_limb_wrenches`)
         self._limb_site = np.array([sid(limb.contact_frame) for limb in robot.limbs])
         self._site_id = {f.name: sid(f.name) for f in robot.frames}
+        moving_joints = [jid(MOVING_PREFIX + box.name) for box in scene.moving_boxes]
+        self._moving = [
+            (box, int(m.jnt_qposadr[j]), int(m.jnt_dofadr[j]))
+            for box, j in zip(scene.moving_boxes, moving_joints, strict=True)
+        ]
+        scene_bodies = {0, *(int(m.jnt_bodyid[j]) for j in moving_joints)}
         self._scene_geom = np.array(
             [
                 m.geom_contype[g] == SCENE_CONTYPE
                 and m.geom_conaffinity[g] == SCENE_CONAFFINITY
-                and m.geom_bodyid[g] == 0
+                and int(m.geom_bodyid[g]) in scene_bodies
                 for g in range(m.ngeom)
             ]
         )
+        self._box_geom = {
+            box.name: mujoco.mj_name2id(m, mujoco.mjtObj.mjOBJ_GEOM, f"box_{box.name}")
+            for box in (*scene.boxes, *scene.moving_boxes)
+        }
 
         def sensor(name: str) -> slice:
             i = mujoco.mj_name2id(m, mujoco.mjtObj.mjOBJ_SENSOR, name)
@@ -187,6 +239,36 @@ class MujocoSimulator(SimulatorBase):
         self._touching_cache: np.ndarray | None = None
         self._pushing = False  # xfrc_applied holds a push
         self._forwarded = False  # mj_forward has run on the current state
+
+    def _move_boxes(self, time: float) -> None:
+        """Put every moving box at its prescribed pose and velocity at `time` [s]: the free
+        joint's position, quaternion, linear velocity (world) and angular velocity (in the
+        box's frame, MuJoCo's convention)."""
+        qpos, qvel = self._qpos, self._qvel
+        for box, q, v in self._moving:
+            center, quaternion = box.pose_at(time)
+            linear, angular = box.velocity_at(time)
+            qpos[q : q + 3] = center
+            qpos[q + 3 : q + 7] = quaternion
+            qvel[v : v + 3] = linear
+            qvel[v + 3 : v + 6] = quaternion_to_matrix(quaternion).T @ angular
+        self._forwarded = False
+        self._contact_cache = self._touching_cache = None
+        self._checks_fresh = False
+
+    def scene_boxes_world(self) -> dict[str, tuple[np.ndarray, np.ndarray, np.ndarray]]:
+        """Every box (static and moving) as MuJoCo holds it now: name -> (centre [m],
+        orientation (w, x, y, z), half extents [m]), from the geoms' world poses after a
+        kinematics pass (which recomputes the current state's poses, changing nothing) and
+        their sizes."""
+        m, d = self.model, self.data
+        mujoco.mj_kinematics(m, d)
+        boxes = {}
+        for name, g in self._box_geom.items():
+            quaternion = np.empty(4)
+            mujoco.mju_mat2Quat(quaternion, d.geom_xmat[g])
+            boxes[name] = (d.geom_xpos[g].copy(), quaternion, m.geom_size[g].copy())
+        return boxes
 
     def set_state(self, state: RobotState) -> None:
         d, r, v = self.data, self._root_qpos, self._root_dof
@@ -353,7 +435,7 @@ class MujocoSimulator(SimulatorBase):
         joint_ids = [
             mujoco.mj_name2id(m, mujoco.mjtObj.mjOBJ_JOINT, n)
             for n in (mujoco.mj_id2name(m, mujoco.mjtObj.mjOBJ_JOINT, j) for j in range(m.njnt))
-            if n != "root"
+            if n != "root" and not n.startswith(MOVING_PREFIX)
         ]
         return MassProperties(
             source="mujoco",

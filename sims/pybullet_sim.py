@@ -14,6 +14,14 @@ Physics settings (same intent as `sims.mujoco_sim`; see README "Simulator differ
   self-collision (the URDF_USE_SELF_COLLISION flag is not given);
 - the IMU accelerometer is the finite difference of the IMU frame's velocity over the last
   physics step, minus gravity (PyBullet has no IMU sensor).
+
+Moving boxes (`robots.scene.MovingBox`): each is a mass-0 (fixed-base) multibody put at its
+prescribed pose and velocity at every physics step (`_move_boxes`: resetBasePositionAndOrientation
+and resetBaseVelocity). Bullet's solver uses a fixed base's velocity in its contacts (measured:
+a cube on a plate moving 20 mm sideways follows it to 0.3 mm), and a step moves the base by
+its velocity; `_move_boxes` puts it back on its path after the step. A static rigid body
+(createMultiBody with useMaximalCoordinates) would not do: its velocity is ignored (the cube
+stayed put).
 """
 
 from __future__ import annotations
@@ -187,6 +195,28 @@ class PybulletSimulator(SimulatorBase):
                     physicsClientId=c,
                 )
             )
+        self._moving = []
+        for box in scene.moving_boxes:
+            shape = pb.createCollisionShape(
+                pb.GEOM_BOX, halfExtents=list(box.half_extents), physicsClientId=c
+            )
+            center, quaternion = box.pose_at(0.0)
+            moving_body = pb.createMultiBody(
+                0.0,
+                shape,
+                basePosition=center.tolist(),
+                baseOrientation=_xyzw(quaternion),
+                physicsClientId=c,
+            )
+            self._moving.append((moving_body, box))
+            self._scene_bodies.append(moving_body)
+        self._box_body = dict(
+            zip(
+                [box.name for box in (*scene.boxes, *scene.moving_boxes)],
+                self._scene_bodies[1 if scene.ground else 0 :],
+                strict=True,
+            )
+        )
         for scene_body in self._scene_bodies:
             pb.changeDynamics(
                 scene_body,
@@ -205,6 +235,38 @@ class PybulletSimulator(SimulatorBase):
         self._sensor_links = [*self._limb_frame, self._imu]  # read together every period
         self._layout = SensorLayout(robot.n_joints, len(robot.limbs))
         self._reset_caches()
+
+    def _move_boxes(self, time: float) -> None:
+        """Put every moving box at its prescribed pose and velocity (world) at `time` [s]."""
+        c = self.client
+        for body, box in self._moving:
+            center, quaternion = box.pose_at(time)
+            linear, angular = box.velocity_at(time)
+            pb.resetBasePositionAndOrientation(
+                body, center.tolist(), _xyzw(quaternion), physicsClientId=c
+            )
+            pb.resetBaseVelocity(body, linear.tolist(), angular.tolist(), physicsClientId=c)
+        self._contact_cache = None
+        self._checks_fresh = False
+
+    def scene_boxes_world(self) -> dict[str, tuple[np.ndarray, np.ndarray, np.ndarray]]:
+        """Every box (static and moving) as Bullet holds it now: name -> (centre [m],
+        orientation (w, x, y, z), half extents [m]): the body's base pose composed with its
+        collision shape's local frame (the identity here), and the shape's extents (Bullet
+        reports full extents). Bullet stores them in double precision; the composition is
+        done here in float64 (pybullet's `multiplyTransforms` rounds to float32: 5e-8 m)."""
+        c = self.client
+        boxes = {}
+        for name, body in self._box_body.items():
+            base_position, base_orientation = pb.getBasePositionAndOrientation(
+                body, physicsClientId=c
+            )
+            shape = pb.getCollisionShapeData(body, -1, physicsClientId=c)[0]
+            base_quaternion = _wxyz(base_orientation)
+            position = np.array(base_position) + quaternion_to_matrix(base_quaternion) @ shape[5]
+            orientation = quaternion_product(base_quaternion, _wxyz(shape[6]))
+            boxes[name] = (position, orientation, 0.5 * np.array(shape[3]))
+        return boxes
 
     # PyBullet's base pose is its inertial frame; ours is the link frame.
     def _base_link_pose(self) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
