@@ -85,8 +85,8 @@ def test_reach_walks_to_the_hand_target_wherever_it_moves(sim):
 @pytest.mark.slow
 @pytest.mark.xfail(
     strict=True,
-    reason="the 15 N s push at 2.5 s, two steps into the walk, ends in a solver failure in both "
-    "simulators (issue 18)",
+    reason="the 15 N s push at 2.5 s comes at the left foot's touchdown: the right foot, next "
+    "to swing, may not cross to the left and it falls (MuJoCo 3.25 s; README, issue 18)",
 )
 @pytest.mark.parametrize("sim", SIMS)
 def test_reach_push(sim):
