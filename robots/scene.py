@@ -1,6 +1,6 @@
-"""The world and the experiment as data: scene geometry and physics settings, contact phases,
-pushes, scenarios. Shared by simulators (which build the scene) and controllers (which read
-the contact sequence)."""
+"""The world and the experiment as data: scene geometry and physics settings, grasps, contact
+phases, pushes, scenarios. Shared by simulators (which build the scene and make the grasps) and
+controllers (which read the contact sequence)."""
 
 from __future__ import annotations
 
@@ -117,12 +117,32 @@ class MovingBox:
 
 
 @dataclass(frozen=True)
+class Grasp:
+    """A hand grasping a box (a rail, a rung): from `start` to `end` [s] the link of the robot
+    limb `limb` (a hand's forearm) is welded to the scene box `box` (a `Box` or a `MovingBox`)
+    at the relative pose the two have when the grasp is made. Unlike a palm pressed on a
+    surface (a unilateral contact), a grasp can pull, and holds any wrench: an equality
+    constraint in the physics engine, the same in every simulator (`sims.base.SimulatorBase
+    .grasp`). The simulator makes it before the first physics step that starts at or after
+    `start` (to half a physics step) and releases it before the first one at or after `end`
+    (never, for the default `end`). Its force is part of the limb's measured contact wrench
+    (`Sensors.contact_wrench_limb`), and the limb counts as in contact while it holds."""
+
+    limb: str
+    box: str
+    start: float = 0.0
+    end: float = math.inf
+
+
+@dataclass(frozen=True)
 class Scene:
     """friction: Coulomb coefficient of every contact (robot-ground and robot-box); gravity
     [m/s^2] (world Z up); physics_dt [s] of one simulator step; control_dt [s] of one
     `Simulator.step` (an integer number of physics steps); `boxes` static, `moving_boxes`
     moved along their prescribed motion at every physics step (`MovingBox`). Box names are
-    unique across both."""
+    unique across both. `grasps`: the hands' grasps of boxes, made and released by the
+    simulator at their times (`Grasp`); the limbs' names are checked against the robot when
+    a simulator is reset."""
 
     boxes: tuple[Box, ...] = ()
     friction: float = 0.6
@@ -133,6 +153,7 @@ class Scene:
     max_tilt: float = np.deg2rad(30.0)
     """Base tilt [rad] above which the robot counts as fallen."""
     moving_boxes: tuple[MovingBox, ...] = ()
+    grasps: tuple[Grasp, ...] = ()
 
     @property
     def substeps(self) -> int:
@@ -156,6 +177,24 @@ class Scene:
             raise ValueError(f"box names must be unique, repeated: {', '.join(repeated)}")
         for box in self.moving_boxes:
             box.validate()
+        held: dict[str, list[Grasp]] = {}
+        for grasp in self.grasps:
+            if grasp.box not in names:
+                raise ValueError(f"grasp of {grasp.limb!r}: no box named {grasp.box!r}")
+            if not (math.isfinite(grasp.start) and grasp.start < grasp.end):
+                raise ValueError(
+                    f"grasp of {grasp.limb!r} on {grasp.box!r}: needs a finite start before "
+                    f"its end, got {grasp.start} to {grasp.end} s"
+                )
+            held.setdefault(grasp.limb, []).append(grasp)
+        for limb, grasps in held.items():
+            grasps.sort(key=lambda grasp: grasp.start)
+            for a, b in itertools.pairwise(grasps):
+                if b.start < a.end:
+                    raise ValueError(
+                        f"{limb!r} grasps {a.box!r} and {b.box!r} at once "
+                        f"({a.start}-{a.end} s and {b.start}-{b.end} s)"
+                    )
 
 
 @dataclass(frozen=True)

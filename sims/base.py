@@ -2,8 +2,21 @@
 
 A backend (MuJoCo, PyBullet) only supplies library primitives (read joints, apply torques and
 forces, step the physics, read contacts). Everything that decides what the experiment is -- the
-servo law, its rate, pushes, fall detection, the sensor contract -- lives here once, so the two
-simulators run the same experiment by construction.
+servo law, its rate, pushes, grasps, fall detection, the sensor contract -- lives here once, so
+the two simulators run the same experiment by construction.
+
+Grasps (`robots.scene.Grasp`, `SimulatorBase.grasp` / `release`): a hand that holds a rail or a
+rung must be able to pull, which a hand pad's contact (unilateral, like every contact in both
+engines) cannot. A grasp is an equality constraint that welds the limb's link (a hand's
+forearm) to a scene box at the relative pose the two have when it is made, anchored at the
+limb's contact frame (the palm centre): a MuJoCo weld equality (`mjEQ_WELD`, activated with
+`MjData.eq_active`) and a PyBullet fixed constraint (`createConstraint(..., JOINT_FIXED)`,
+removed at release); see each backend for its softness and force limit. Its force counts in
+the limb's contact wrench with the same frame and sign as a contact's (the wrench the
+environment applies on the limb, in its contact frame about its origin), and the limb counts
+as in contact while it holds. The scene's grasps are made and released by `step`, before the
+first physics step that starts at or after their times; `grasp` / `release` make and release
+one at once (from the next physics step on).
 """
 
 from __future__ import annotations
@@ -40,6 +53,8 @@ class Simulator(Protocol):
     def reset(self, robot: RobotDescription, scene: Scene, initial: RobotState) -> Sensors: ...
     def step(self, command: JointCommand) -> Sensors: ...
     def push(self, link: str, impulse_world: np.ndarray, duration: float) -> None: ...
+    def grasp(self, limb: str, box: str) -> None: ...
+    def release(self, limb: str) -> None: ...
     def ground_truth(self) -> RobotState: ...
     def set_state(self, state: RobotState) -> None: ...
     def fall_reason(self) -> str | None: ...
@@ -169,6 +184,10 @@ class SimulatorBase(abc.ABC):
         limbs, 1.0 if the joint and base positions are finite (else 0.0), and a backend's own
         count (MuJoCo: instability warnings)."""
         self._checks_fresh = False
+        self._grasps: dict[str, str] = {}  # limb -> the box it holds
+        self._grasp_events: list[tuple[float, int, str, str]] = []
+        """The scene's grasps still to make or release: (time [s], 0 release / 1 grasp, limb,
+        box), latest first (`step` pops them from the end)."""
         self.engine_ns = 0
         """[ns] the engine's own work in the last `step`: its physics steps and, for MuJoCo,
         the forward pass that computes the sensors (the rest of the step is ours: the servo
@@ -196,6 +215,15 @@ class SimulatorBase(abc.ABC):
         (`robots.scene.MovingBox.pose_at`, `velocity_at`); called after loading (time 0) and
         after every physics step, and only for a scene that has moving boxes."""
         raise NotImplementedError(f"{self.name} cannot move boxes")
+
+    def _make_grasp(self, limb: int, box: str) -> None:
+        """Weld the link of limb number `limb` to the scene box `box` at their current relative
+        pose, anchored at the limb's contact frame, from the next physics step on."""
+        raise NotImplementedError(f"{self.name} cannot grasp")
+
+    def _drop_grasp(self, limb: int) -> None:
+        """Remove limb number `limb`'s weld (`_make_grasp`) from the next physics step on."""
+        raise NotImplementedError(f"{self.name} cannot grasp")
 
     @abc.abstractmethod
     def _read_sensors(self) -> Sensors:
@@ -225,6 +253,14 @@ class SimulatorBase(abc.ABC):
         self._limb_links = frozenset(limb.link for limb in robot.limbs)
         self._substeps = scene.substeps
         self._moving_boxes = bool(scene.moving_boxes)
+        self._grasps = {}
+        for grasp in scene.grasps:
+            robot.limb(grasp.limb)  # raises for an unknown limb
+        self._grasp_events = sorted(
+            [(g.start, 1, g.limb, g.box) for g in scene.grasps]
+            + [(g.end, 0, g.limb, g.box) for g in scene.grasps if math.isfinite(g.end)],
+            reverse=True,
+        )
         self._load(robot, scene)
         if self._moving_boxes:
             self._move_boxes(0.0)
@@ -246,8 +282,10 @@ class SimulatorBase(abc.ABC):
         )
         self.engine_ns = 0
         joint_state, physics_step, limit = self._joint_state, self._physics_step, self._torque_limit
-        last, moving = substeps - 1, self._moving_boxes
+        last, moving, events = substeps - 1, self._moving_boxes, self._grasp_events
         for substep in range(substeps):
+            if events and events[-1][0] <= self.time + 0.5 * physics_dt:
+                self._grasp_events_due()
             q, dq = joint_state()
             torque = servo_torque_kernel(*servo, q, dq, limit)  # `servo_torque`
             if self._pushes:
@@ -283,6 +321,43 @@ class SimulatorBase(abc.ABC):
         steps = max(1, round(duration / self.scene.physics_dt))
         force = impulse / (steps * self.scene.physics_dt)
         self._pushes.append(_Push(link, force, steps))
+
+    def grasp(self, limb: str, box: str) -> None:
+        """Make `limb` (a robot limb's name) grasp the scene box `box` (a `Box` or `MovingBox`
+        name): weld the limb's link to the box at their current relative pose, from the next
+        physics step on, until `release` (see the module docstring)."""
+        assert self.robot is not None and self.scene is not None, "reset() first"
+        limb_number = self.robot.limbs.index(self.robot.limb(limb))  # raises for an unknown limb
+        boxes = [b.name for b in (*self.scene.boxes, *self.scene.moving_boxes)]
+        if box not in boxes:
+            raise KeyError(f"no box {box!r}; boxes: {', '.join(boxes)}")
+        if limb in self._grasps:
+            raise ValueError(f"{limb!r} already grasps {self._grasps[limb]!r}: release it first")
+        self._make_grasp(limb_number, box)
+        self._grasps[limb] = box
+
+    def release(self, limb: str) -> None:
+        """End `limb`'s grasp from the next physics step on (nothing if it holds nothing)."""
+        assert self.robot is not None, "reset() first"
+        limb_number = self.robot.limbs.index(self.robot.limb(limb))  # raises for an unknown limb
+        if self._grasps.pop(limb, None) is not None:
+            self._drop_grasp(limb_number)
+
+    def grasping(self) -> dict[str, str]:
+        """The grasps that hold now: limb -> box."""
+        return dict(self._grasps)
+
+    def _grasp_events_due(self) -> None:
+        """Release, then make, the scene's grasps whose time has come (to half a physics
+        step)."""
+        assert self.scene is not None
+        events, due = self._grasp_events, self.time + 0.5 * self.scene.physics_dt
+        while events and events[-1][0] <= due:
+            _, kind, limb, box = events.pop()
+            if kind == 0:
+                self.release(limb)
+            else:
+                self.grasp(limb, box)
 
     def fall_reason(self) -> str | None:
         """Why the robot counts as fallen (first cause seen), or None."""

@@ -18,12 +18,28 @@ inflates `stat.meaninertia` (4.1 -> 4.8e4 in `moving_contacts`), which scales th
 tolerance: measured to change nothing (the robot holding its posture on the moving floors of
 `moving_contacts` for 1.8 s is bit for bit the same with meaninertia set back to the robot's
 value; the solver takes 1-4 iterations a step in both).
+
+Grasps (`sims.base` docstring): a scene with boxes gets one weld equality (`mjEQ_WELD`) per
+(limb, box) pair, `grasp_<limb>_<box>`, between the limb's link (body1) and the box's body
+(body2: the world for a static box, the free body of a moving one), inactive: an inactive
+equality makes no constraint row, so nothing changes until a grasp is made (a flat scene
+compiles none). Making one writes its relative pose into `eq_data` (anchor: the palm centre, in
+each body's frame; relative orientation body1^-1 body2, the current one) and sets
+`MjData.eq_active`; the model is compiled once per process and shared, so the simulator first
+takes its own copy of it (`_own_model`). A contact's time constant (`GRASP_SOLREF`) with a
+nearly rigid impedance (`GRASP_SOLIMP`: see there why), and no force limit (MuJoCo's
+equalities have none). Its force is in `cfrc_ext` (MuJoCo adds the weld's force to the
+bodies' external forces), so the limb wrench includes it; when a push acts on the limb's body
+the push is subtracted from it (`_read_sensors`). Both `grasp` and `release` make the next
+physics step a full `mj_step`: constraint rows are built in the position stage.
 """
 
 from __future__ import annotations
 
+import copy
 import functools
 import time
+from dataclasses import replace
 
 import mujoco
 import numpy as np
@@ -36,13 +52,28 @@ from sims.base import (
     SimulatorBase,
     SimulatorError,
     contiguous,
+    cross,
     limb_wrenches,
+    quaternion_product,
     quaternion_to_matrix,
 )
 from sims.kernels import mujoco_sensors
 from sims.sensor_buffer import SensorLayout
 
 CONTACT_SOLREF = (0.005, 1.0)
+GRASP_SOLREF = CONTACT_SOLREF
+"""A grasp's weld corrects its error with a contact's time constant (5 ms, critically damped:
+as fast as a 1 ms step allows, timeconst >= 2 dt)."""
+GRASP_SOLIMP = (0.999, 0.999, 0.001, 0.5, 2.0)
+"""A grasp's weld impedance: nearly rigid, like PyBullet's fixed constraint. With the default
+(0.9 to 0.95, a contact's) a constant load leaves an error (1 - d) / (d k) times the
+unconstrained acceleration, a stiffness proportional to the effective inertia, which is small
+in rotation: measured with a (40, -20, 100) N pull on the forearm of a hand grasping a bar, the
+arm's servos took 1.5 % of the force and 35 % of the 2.1 N m moment about x, and the robot
+swayed for 1 s; with 0.999 the grasp's wrench equals the load to 0.1 % and 1 % (the palm moves
+1 um), as in PyBullet."""
+GRASP_PREFIX = "grasp_"
+"""Name prefix of the weld equalities: `grasp_<limb>_<box>`."""
 SCENE_CONTYPE, SCENE_CONAFFINITY = 0, 1
 MOVING_PREFIX = "moving_"
 """Name prefix of a moving box's body and free joint (its geom is `box_<name>`, as a static
@@ -135,7 +166,25 @@ def build_model(robot: RobotDescription, scene: Scene) -> mujoco.MjModel:
         geom.friction = [scene.friction, 0.0, 0.0]
         geom.condim = 3
         geom.solref = list(CONTACT_SOLREF)
+    for limb in robot.limbs:  # the grasps' welds, inactive (`MujocoSimulator._make_grasp`)
+        for box in scene.boxes:
+            _add_grasp_weld(spec, limb.name, limb.link, box.name, "world")
+        for box in scene.moving_boxes:
+            _add_grasp_weld(spec, limb.name, limb.link, box.name, MOVING_PREFIX + box.name)
     return spec.compile()
+
+
+def _add_grasp_weld(spec: mujoco.MjSpec, limb: str, link: str, box: str, body: str) -> None:
+    spec.add_equality(
+        name=f"{GRASP_PREFIX}{limb}_{box}",
+        type=mujoco.mjtEq.mjEQ_WELD,
+        objtype=mujoco.mjtObj.mjOBJ_BODY,
+        name1=link,
+        name2=body,
+        active=False,
+        solref=list(GRASP_SOLREF),
+        solimp=list(GRASP_SOLIMP),
+    )
 
 
 def clear_cache() -> None:
@@ -147,7 +196,9 @@ class MujocoSimulator(SimulatorBase):
     name = "mujoco"
 
     def _load(self, robot: RobotDescription, scene: Scene) -> None:
-        m = self.model = build_model(robot, scene)
+        # the grasps are events, not the model: one compiled model for every schedule
+        m = self.model = build_model(robot, replace(scene, grasps=()) if scene.grasps else scene)
+        self._model_owned = False  # `_own_model`
         self.data = mujoco.MjData(m)
         _last_warning[0] = ""
 
@@ -199,6 +250,14 @@ class MujocoSimulator(SimulatorBase):
             box.name: mujoco.mj_name2id(m, mujoco.mjtObj.mjOBJ_GEOM, f"box_{box.name}")
             for box in (*scene.boxes, *scene.moving_boxes)
         }
+        self._grasp_weld = {
+            (k, box): mujoco.mj_name2id(
+                m, mujoco.mjtObj.mjOBJ_EQUALITY, f"{GRASP_PREFIX}{limb.name}_{box}"
+            )
+            for k, limb in enumerate(robot.limbs)
+            for box in self._box_geom
+        }
+        self._grasp_active: dict[int, int] = {}  # limb number -> its active weld
 
         def sensor(name: str) -> slice:
             i = mujoco.mj_name2id(m, mujoco.mjtObj.mjOBJ_SENSOR, name)
@@ -255,6 +314,45 @@ class MujocoSimulator(SimulatorBase):
         self._forwarded = False
         self._contact_cache = self._touching_cache = None
         self._checks_fresh = False
+
+    def _own_model(self) -> mujoco.MjModel:
+        """The simulator's own copy of the model, taken at its first grasp (`build_model`'s
+        are shared by every simulator of the process; a grasp writes into `eq_data`)."""
+        if not self._model_owned:
+            self.model = copy.copy(self.model)
+            self._model_owned = True
+        return self.model
+
+    def _make_grasp(self, limb: int, box: str) -> None:
+        """Activate the (limb, box) weld with the current relative pose: anchor at the palm
+        centre in body2's frame (eq_data[0:3]) and in body1's (eq_data[3:6]), orientation
+        body1^-1 body2 (eq_data[6:10], w x y z)."""
+        m, d = self._own_model(), self.data
+        weld = self._grasp_weld[(limb, box)]
+        mujoco.mj_kinematics(m, d)  # the current state's poses (recomputed: unchanged)
+        body1, body2 = int(m.eq_obj1id[weld]), int(m.eq_obj2id[weld])
+        palm = d.site_xpos[self._limb_site[limb]]
+        m.eq_data[weld, 0:3] = d.xmat[body2].reshape(3, 3).T @ (palm - d.xpos[body2])
+        m.eq_data[weld, 3:6] = d.xmat[body1].reshape(3, 3).T @ (palm - d.xpos[body1])
+        w, x, y, z = d.xquat[body1].tolist()
+        relative = quaternion_product((w, -x, -y, -z), d.xquat[body2])
+        m.eq_data[weld, 6:10] = relative / np.linalg.norm(relative)
+        d.eq_active[weld] = 1
+        self._grasp_active[limb] = weld
+        self._forwarded = False  # constraint rows are made in mj_step1's position stage
+
+    def _drop_grasp(self, limb: int) -> None:
+        self.data.eq_active[self._grasp_active.pop(limb)] = 0
+        self._forwarded = False
+
+    def _push_wrench(self, limb: int) -> np.ndarray:
+        """The push on limb number `limb`'s body (`xfrc_applied`, at its centre of mass) as a
+        wrench in its contact frame about its origin, as `cfrc_ext` counts it."""
+        d, body, site = self.data, self._limb_body[limb], self._limb_site[limb]
+        force = d.xfrc_applied[body, :3]
+        moment = d.xfrc_applied[body, 3:] + cross(d.xipos[body] - d.site_xpos[site], force)
+        rotation = d.site_xmat[site].reshape(3, 3)
+        return np.concatenate([rotation.T @ force, rotation.T @ moment])
 
     def scene_boxes_world(self) -> dict[str, tuple[np.ndarray, np.ndarray, np.ndarray]]:
         """Every box (static and moving) as MuJoCo holds it now: name -> (centre [m],
@@ -380,8 +478,10 @@ class MujocoSimulator(SimulatorBase):
         The limb wrenches come from MuJoCo's `cfrc_ext`: the external spatial force (moment,
         force) on each body about the subtree CoM of its root body, in world axes, which the
         forward pass computes for the accelerometer (its contacts summed in C; equal to the sum
-        of `mj_contactForce` over each body's contacts to 1e-12 N: a test). A push on a limb's
-        body is in `cfrc_ext` too: then the contacts are summed one by one (`_contacts`)."""
+        of `mj_contactForce` over each body's contacts to 1e-12 N: a test), and the force of a
+        grasp's weld. A push on a limb's body is in `cfrc_ext` too: then the contacts are summed
+        one by one (`_contacts`), and a grasping limb's wrench is `cfrc_ext`'s without the
+        push."""
         m, d = self.model, self.data
         start = time.perf_counter_ns()
         mujoco.mj_forward(m, d)  # sensors, contacts and poses of the state after the step
@@ -412,7 +512,13 @@ class MujocoSimulator(SimulatorBase):
             self._check_warnings()
         self._checks_fresh = True
         sensors = self._layout.sensors(self.time, buffer, flags)
+        if self._grasp_active:
+            flags[list(self._grasp_active)] = True
         if self._limb_pushed:
+            holding = {
+                limb: sensors.contact_wrench_limb[limb] - self._push_wrench(limb)
+                for limb in self._grasp_active
+            }
             bodies, points, forces = self._contacts()
             sensors.contact_wrench_limb[:] = limb_wrenches(
                 bodies,
@@ -422,6 +528,8 @@ class MujocoSimulator(SimulatorBase):
                 d.site_xpos[self._limb_site],
                 d.site_xmat[self._limb_site].reshape(-1, 3, 3),
             )[0]
+            for limb, wrench in holding.items():
+                sensors.contact_wrench_limb[limb] = wrench
         return sensors
 
     def mass_properties(self) -> MassProperties:

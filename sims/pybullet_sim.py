@@ -22,6 +22,17 @@ a cube on a plate moving 20 mm sideways follows it to 0.3 mm), and a step moves 
 its velocity; `_move_boxes` puts it back on its path after the step. A static rigid body
 (createMultiBody with useMaximalCoordinates) would not do: its velocity is ignored (the cube
 stayed put).
+
+Grasps (`sims.base` docstring): a fixed constraint (`createConstraint(..., JOINT_FIXED)`)
+between the limb's link and the box's body, made at grasp time with both frames at the palm
+centre and orientation (the current relative pose; PyBullet wants them relative to each body's
+centre-of-mass frame), removed at release (`removeConstraint`). Bullet solves it rigidly, with
+`GRASP_ERP` and a force limit `GRASP_MAX_FORCE_WEIGHTS` (see them). Its force is read with
+`getConstraintState` (the last step's impulses / dt): measured on a welded block, the three
+linear rows are the force on the limb in world axes, the three angular ones the moment on it
+about the pivot in the constraint frames' axes (the parent's and the child's coincide while it
+holds): the palm centre and the palm frame. So the moment is added to the limb's contact
+wrench as it is, and the force rotated into the palm frame.
 """
 
 from __future__ import annotations
@@ -70,6 +81,18 @@ drifts to a 54/46 left/right split; with 0.2 it stays at 50/50 and 0.11 mm. The 
 deep overlap is being recovered (a body that starts 15 mm inside a box), the `normalForce`
 PyBullet reports includes the recovery impulse, which does not change momentum (reported forces
 averaged 1.07 m g at rest), so scenarios must not start with bodies interpenetrating."""
+
+
+GRASP_ERP = CONTACT_ERP
+"""Position-error reduction of a grasp's constraint, as a contact's (Bullet's default, set
+explicitly)."""
+GRASP_MAX_FORCE_WEIGHTS = 10.0
+"""A grasp's force limit, per constraint row (N for the three force rows, N m for the three
+moment rows), in robot weights (m g: 5.7 kN at scale 1). MuJoCo's weld has no limit; this one
+never binds in a scene that makes sense (Fig. 7's ladder pulls about 200 N, the robot's whole
+weight on one hand is 573 N), and only keeps a scene that asks the impossible (a hand welded to
+a box that moves away from the robot's feet) finite. PyBullet's own default (reported as 500)
+is no limit either: it held a 1000 N load on a welded block."""
 
 
 def _wxyz_tuple(q_xyzw) -> tuple[float, float, float, float]:
@@ -232,6 +255,8 @@ class PybulletSimulator(SimulatorBase):
         self._base_inertial_rotation = quaternion_to_matrix(_wxyz(info[4]))
         w, x, y, z = _wxyz(info[4])
         self._base_inertial_conjugate = np.array([w, -x, -y, -z])
+        self._grasp_constraint: dict[int, int] = {}  # limb number -> constraint id
+        self._grasp_max_force = GRASP_MAX_FORCE_WEIGHTS * robot.total_mass * scene.gravity
         self._sensor_links = [*self._limb_frame, self._imu]  # read together every period
         self._layout = SensorLayout(robot.n_joints, len(robot.limbs))
         self._reset_caches()
@@ -248,6 +273,54 @@ class PybulletSimulator(SimulatorBase):
             pb.resetBaseVelocity(body, linear.tolist(), angular.tolist(), physicsClientId=c)
         self._contact_cache = None
         self._checks_fresh = False
+
+    def _make_grasp(self, limb: int, box: str) -> None:
+        """A fixed constraint between the limb's link (parent) and the box's body (child), both
+        frames at the palm centre and orientation now, given relative to each body's
+        centre-of-mass frame (PyBullet's convention)."""
+        c, body = self.client, self.body
+        link = int(self._limb_link[limb])
+        com, com_orientation = pb.getLinkState(
+            body, link, computeForwardKinematics=1, physicsClientId=c
+        )[:2]
+        palm_state = pb.getLinkState(
+            body, self._limb_frame[limb], computeForwardKinematics=1, physicsClientId=c
+        )
+        palm, palm_orientation = np.array(palm_state[4]), _wxyz(palm_state[5])
+        box_body = self._box_body[box]
+        box_position, box_orientation = pb.getBasePositionAndOrientation(
+            box_body, physicsClientId=c
+        )
+        frames = []
+        for position, orientation in ((com, com_orientation), (box_position, box_orientation)):
+            w, x, y, z = _wxyz_tuple(orientation)
+            frames.append(
+                (
+                    (quaternion_to_matrix((w, x, y, z)).T @ (palm - position)).tolist(),
+                    _xyzw(quaternion_product((w, -x, -y, -z), palm_orientation)),
+                )
+            )
+        (parent_position, parent_orientation), (child_position, child_orientation) = frames
+        constraint = pb.createConstraint(
+            body,
+            link,
+            box_body,
+            -1,
+            pb.JOINT_FIXED,
+            [0.0, 0.0, 0.0],
+            parentFramePosition=parent_position,
+            childFramePosition=child_position,
+            parentFrameOrientation=parent_orientation,
+            childFrameOrientation=child_orientation,
+            physicsClientId=c,
+        )
+        pb.changeConstraint(
+            constraint, maxForce=self._grasp_max_force, erp=GRASP_ERP, physicsClientId=c
+        )
+        self._grasp_constraint[limb] = constraint
+
+    def _drop_grasp(self, limb: int) -> None:
+        pb.removeConstraint(self._grasp_constraint.pop(limb), physicsClientId=self.client)
 
     def scene_boxes_world(self) -> dict[str, tuple[np.ndarray, np.ndarray, np.ndarray]]:
         """Every box (static and moving) as Bullet holds it now: name -> (centre [m],
@@ -392,7 +465,8 @@ class PybulletSimulator(SimulatorBase):
     def _read_sensors(self) -> Sensors:
         """One read of each kind per period (base pose and velocity, the limb frames and the
         IMU frame in one call, the joints, the contact points), converted and summed in one
-        compiled kernel (`kernels.pybullet_sensors`)."""
+        compiled kernel (`kernels.pybullet_sensors`); then each grasp's constraint force
+        (`getConstraintState`) added to its limb's wrench."""
         assert self.robot is not None and self.scene is not None
         c, body = self.client, self.body
         com, orientation = pb.getBasePositionAndOrientation(body, physicsClientId=c)
@@ -435,7 +509,15 @@ class PybulletSimulator(SimulatorBase):
             checks,
         )
         self._checks_fresh = True
-        return self._layout.sensors(self.time, buffer, flags)
+        sensors = self._layout.sensors(self.time, buffer, flags)
+        for limb, constraint in self._grasp_constraint.items():
+            # force on the limb (world axes), moment about the palm centre (palm axes)
+            reaction = pb.getConstraintState(constraint, physicsClientId=c)
+            rotation = quaternion_to_matrix(_wxyz_tuple(frames[limb][5]))
+            sensors.contact_wrench_limb[limb, :3] += rotation.T @ np.array(reaction[:3])
+            sensors.contact_wrench_limb[limb, 3:] += reaction[3:6]
+            flags[limb] = True
+        return sensors
 
     def mass_properties(self) -> MassProperties:
         c, body = self.client, self.body
