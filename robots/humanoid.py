@@ -1,17 +1,23 @@
 """The centrobench humanoid: one Python spec, 1.60 m and 58.4 kg at scale 1.
 
-Structure (20 actuated joints):
+Structure (24 actuated joints):
 - `torso` (floating base): pelvis block, chest block and head, one rigid body; IMU in the chest.
 - each leg, 6 DoF: hip yaw (z), hip roll (x), hip pitch (y), knee (y), ankle pitch (y),
   ankle roll (x); the three hip axes and the two ankle axes intersect; rectangular foot
   0.22 x 0.12 m with the sole frame at its centre, force/torque sensor frame at the ankle.
-- each arm, 4 DoF: shoulder pitch (y), shoulder roll (x), shoulder yaw (z), elbow (y); a flat
-  hand pad 0.10 x 0.08 m at the forearm's end, facing along -z of the forearm frame (forward
-  when the arm is raised horizontally), palm frame at its centre, sensor frame at the wrist.
+- each arm, 6 DoF: shoulder pitch (y), shoulder roll (x), shoulder yaw (z), elbow (y), wrist
+  pitch (y), wrist roll (x) (the wrist axes intersect 0.18 m down the forearm, so that the palm
+  can be oriented in the three ways a palm on a wall, a rail or a rung needs: Murooka et al.'s
+  multi-contact motions, issue 19); a flat hand pad 0.10 x 0.08 m on the hand link, facing
+  along -z of the hand frame (forward when the arm is raised horizontally), palm frame at its
+  centre, sensor frame at the wrist.
 
 Mass distribution (scale 1): torso 24 kg (pelvis 8, chest 13, head 3), each leg 12.8 kg
 (hip links 1.0 + 1.5, thigh 5.5, shank 3.0, ankle link 0.5, foot 1.3), each arm 4.4 kg
-(shoulder links 0.6 + 0.6, upper arm 1.8, forearm with hand 1.4): 41 % torso, 44 % legs, 15 %
+(shoulder links 0.6 + 0.6, upper arm 1.8, forearm 1.18, wrist link 0.04, hand with its pad 0.18;
+the three split the 1.4 kg of the forearm with its pad before the wrists so that the arm's CoM
+stays within 1 mm of where it was):
+41 % torso, 44 % legs, 15 %
 arms, close to the segment fractions of human body tables and of adult-size humanoids.
 
 Scaling (`scale` s, optional `total_mass`): geometric similarity with constant density —
@@ -53,6 +59,13 @@ _ARM_JOINTS = {
     "shoulder_roll": ((-0.3, 2.5), 6.0, 80.0, 300.0, 6.0),
     "shoulder_yaw": ((-1.5, 1.5), 6.0, 60.0, 200.0, 3.0),
     "elbow": ((-2.4, 0.0), 6.0, 60.0, 200.0, 3.0),
+    # Wrists (issue 19, ours): 20 N m, 2.5 times the 8 N m of Murooka Fig. 7's 200 N of pull
+    # acting 4 cm from the wrist axes (at the palm); kd about the hand's critical damping
+    # about the wrist, 2 sqrt(kp I_hand) = 0.23-0.25 with I_hand = 2.6e-4 / 3.2e-4 kg m^2 (roll,
+    # pitch): kd dt / I_hand = 0.83 / 0.69 at the 1 ms physics step (the explicit servo fails
+    # near 2: see the ankles above)
+    "wrist_pitch": ((-1.2, 1.2), 6.0, 20.0, 50.0, 0.22),
+    "wrist_roll": ((-1.2, 1.2), 6.0, 20.0, 50.0, 0.22),
 }
 # Standing posture: knees bent 0.7 rad, torso upright and feet flat (hip + knee + ankle pitch
 # = 0), split between hip and ankle so that the CoM is above the sole centres (to 0.05 mm).
@@ -67,8 +80,10 @@ _NOMINAL = {
     "shoulder_roll": 0.15,
     "shoulder_yaw": 0.0,
     "elbow": -0.4,
+    "wrist_pitch": 0.0,
+    "wrist_roll": 0.0,
 }
-_MIRRORED = {"hip_roll", "hip_yaw", "ankle_roll", "shoulder_roll", "shoulder_yaw"}
+_MIRRORED = {"hip_roll", "hip_yaw", "ankle_roll", "shoulder_roll", "shoulder_yaw", "wrist_roll"}
 
 
 @dataclass(frozen=True)
@@ -225,17 +240,15 @@ def humanoid(scale: float = 1.0, total_mass: float | None = None) -> RobotDescri
             Limb(f"{s}_foot", f"{s}_foot", f"{s}_sole", f"{s}_ankle_ft", v(0.11, 0.06, 0.0)[:2])
         )
 
-        # Arm. Shoulder 0.42 above the pelvis frame, upper arm 0.26, forearm 0.22 to the pad.
+        # Arm. Shoulder 0.42 above the pelvis frame, upper arm 0.26, forearm 0.18 to the wrist,
+        # the pad 0.04 beyond it (0.22 from the elbow, as before the wrists).
         links += [
             link(f"{s}_shoulder_pitch_link", 0.6, sphere(0.045, collides=False)),
             link(f"{s}_shoulder_roll_link", 0.6, sphere(0.045, collides=False)),
             link(f"{s}_upper_arm", 1.8, capsule(0.045, 0.09, at=(0.0, 0.0, -0.13))),
-            link(
-                f"{s}_forearm",
-                1.4,
-                capsule(0.04, 0.07, at=(0.0, 0.0, -0.10)),
-                box(0.05, 0.04, 0.01, at=(0.0, 0.0, -0.21)),  # hand pad
-            ),
+            link(f"{s}_forearm", 1.18, capsule(0.04, 0.07, at=(0.0, 0.0, -0.10))),
+            link(f"{s}_wrist_link", 0.04, sphere(0.02, collides=False)),
+            link(f"{s}_hand_link", 0.18, box(0.05, 0.04, 0.01, at=(0.0, 0.0, -0.03))),  # hand pad
         ]
         add_joint(
             s,
@@ -267,12 +280,32 @@ def humanoid(scale: float = 1.0, total_mass: float | None = None) -> RobotDescri
         add_joint(
             s, "elbow", f"{s}_upper_arm", f"{s}_forearm", (0.0, 0.0, -0.26), y_axis, _ARM_JOINTS
         )
+        add_joint(
+            s,
+            "wrist_pitch",
+            f"{s}_forearm",
+            f"{s}_wrist_link",
+            (0.0, 0.0, -0.18),
+            y_axis,
+            _ARM_JOINTS,
+        )
+        add_joint(
+            s,
+            "wrist_roll",
+            f"{s}_wrist_link",
+            f"{s}_hand_link",
+            (0.0, 0.0, 0.0),
+            x_axis,
+            _ARM_JOINTS,
+        )
         frames += [
-            Frame(f"{s}_palm", f"{s}_forearm", v(0.0, 0.0, -0.22), "contact"),
-            Frame(f"{s}_wrist_ft", f"{s}_forearm", v(0.0, 0.0, -0.20), "force_torque"),
+            Frame(f"{s}_palm", f"{s}_hand_link", v(0.0, 0.0, -0.04), "contact"),
+            Frame(f"{s}_wrist_ft", f"{s}_hand_link", v(0.0, 0.0, -0.02), "force_torque"),
         ]
         limbs.append(
-            Limb(f"{s}_hand", f"{s}_forearm", f"{s}_palm", f"{s}_wrist_ft", v(0.05, 0.04, 0.0)[:2])
+            Limb(
+                f"{s}_hand", f"{s}_hand_link", f"{s}_palm", f"{s}_wrist_ft", v(0.05, 0.04, 0.0)[:2]
+            )
         )
 
     description = RobotDescription(

@@ -36,7 +36,7 @@ def test_robot_json_shows_identical_models(scale):
     assert set(report["models"]) == {"pinocchio", "mujoco", "pybullet"}
     for info in report["models"].values():
         assert info["total_mass_kg"] == pytest.approx(NOMINAL_MASS_KG * scale**3, rel=1e-9)
-        assert info["dof"] == 26
+        assert info["dof"] == 30
     for gap in report["max_discrepancy_vs_pinocchio"].values():
         assert gap["mass_rel"] <= 1e-9
         assert gap["com_m"] <= 1e-9

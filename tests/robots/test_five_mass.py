@@ -50,7 +50,10 @@ def test_each_limb_mass_is_the_sum_of_its_links(model):
         + links["left_ankle_link"]
         + links["left_foot"],
         "left_arm": sum(
-            m for n, m in links.items() if n.startswith("left_") and ("shoulder" in n or "arm" in n)
+            m
+            for n, m in links.items()
+            if n.startswith("left_")
+            and any(part in n for part in ("shoulder", "arm", "wrist", "hand"))
         ),
     }
     for group, mass in expected.items():

@@ -52,9 +52,9 @@ def test_humanoid_is_adult_size_with_the_required_limbs():
     robot = humanoid()
     assert 50.0 <= robot.total_mass <= 65.0
     assert robot.total_mass == pytest.approx(NOMINAL_MASS_KG)
-    assert robot.n_joints == 20
+    assert robot.n_joints == 24
     leg = ["hip_yaw", "hip_roll", "hip_pitch", "knee", "ankle_pitch", "ankle_roll"]
-    arm = ["shoulder_pitch", "shoulder_roll", "shoulder_yaw", "elbow"]
+    arm = ["shoulder_pitch", "shoulder_roll", "shoulder_yaw", "elbow", "wrist_pitch", "wrist_roll"]
     for side in ("left", "right"):
         for joint in leg + arm:
             assert f"{side}_{joint}" in robot.joint_names

@@ -7,10 +7,13 @@ The set-up (as `test_agreement.test_palm_contact_is_sensed`, on the right hand, 
 and the bar turned by `YAW` so that the palm's axes are not the world's): the robot stands with
 its right forearm vertical and its hand pad level, over a bar whose top is 3 mm below the pad;
 the knees bend so that the body goes down about 4 mm and the pad presses on the bar (about
-80 N). A constant load `LOAD` (110 N) on the forearm's centre of mass (`Simulator.push`) pulls
-the hand up, away from the bar, forward and outward: 4.7 N m about the palm centre. The weld
-and the arm hold the forearm in parallel, and the weld's share of the load is its stiffness
-over the sum: measured, the grasped hand's wrench changes by the load's to 0.08 N and 0.02 N m
+40 N through the wrist servos; 80 N before the robot had wrists). A constant load `LOAD`
+(110 N; `Simulator.push`) pulls the hand up, away from the bar, forward and outward: on the
+grasped hand link (`GRASPED_LINK`) where a grasp must hold it alone (0.4 N m about the palm
+centre), on the forearm where it drags a released hand away. The weld and the arm hold the hand
+in parallel, and the weld's share of the load is its stiffness over the sum: measured (before
+the wrists, the load on the forearm: 4.7 N m about the palm), the grasped hand's wrench changed
+by the load's to 0.08 N and 0.02 N m
 in both engines (MuJoCo's weld nearly rigid, `sims.mujoco_sim.GRASP_SOLIMP`, PyBullet's rigid;
 with MuJoCo's default impedance the arm's servos took a third of the moment about x). The
 tolerances are 1 N and 0.1 N m. The load's effect is isolated from the slow settling of the
@@ -31,6 +34,9 @@ from sims.pybullet_sim import pb
 SIMS = ["mujoco", "pybullet"]
 YAW = 0.5  # [rad] the robot and the bar turn left about the vertical: palm axes are not world's
 TURNED = (np.cos(YAW / 2), 0.0, 0.0, np.sin(YAW / 2))  # (w, x, y, z)
+GRASPED_LINK = "right_hand_link"
+"""The link the grasp welds, which `test_a_grasp_holds_a_pull_that_a_pressed_palm_cannot` loads:
+on the forearm, the wrist servos' compliance would share the load with the arm."""
 LOAD = quaternion_to_matrix(TURNED) @ [40.0, -20.0, 100.0]  # [N] on the right forearm, world:
 # up, forward and outward in the robot's frame
 LOAD_START, LOAD_END = 0.6, 1.4  # [s]
@@ -81,10 +87,13 @@ def pressing(robot, model, initial) -> JointCommand:
     return JointCommand(position, hold.velocity, hold.torque_feedforward, hold.kp, hold.kd)
 
 
-def run(robot, sim_name, scene, initial, command, duration, load=None, check=None) -> dict:
-    """`duration` [s] of `command`, with `load` [N] on the right forearm from LOAD_START to
-    LOAD_END; after each period check(sim, sensors). Returns per period the time [s], the
-    right hand's wrench and contact flag, the palm's position [m], and the fall reason."""
+def run(
+    robot, sim_name, scene, initial, command, duration, load=None, check=None, link="right_forearm"
+) -> dict:
+    """`duration` [s] of `command`, with `load` [N] on `link` (default the right forearm) from
+    LOAD_START to LOAD_END; after each period check(sim, sensors). Returns per period the
+    time [s], the right hand's wrench and contact flag, the palm's position [m], and the fall
+    reason."""
     hand = robot.limb_names.index(HAND)
     sim = make_simulator(sim_name)
     times, wrenches, flags, palms, states = [], [], [], [], []
@@ -93,7 +102,7 @@ def run(robot, sim_name, scene, initial, command, duration, load=None, check=Non
         for _ in range(round(duration / scene.control_dt)):
             if load is not None and abs(sim.time - LOAD_START) < 1e-9:
                 length = LOAD_END - LOAD_START
-                sim.push("right_forearm", load * length, length)
+                sim.push(link, load * length, length)
             sensors = sim.step(command)
             times.append(sensors.time)
             wrenches.append(sensors.contact_wrench_limb[hand].copy())
@@ -121,12 +130,10 @@ def period(trace: dict, time: float) -> int:
 
 
 def expected_wrench(model, state: RobotState, load: np.ndarray) -> np.ndarray:
-    """The wrench a rigid grasp applies to hold `load` [N] at the forearm's centre of mass:
-    -load, and minus its moment about the palm centre, in the palm frame."""
-    forearm, forearm_rotation = model.frame_pose(state, "right_forearm")
-    com = forearm + forearm_rotation @ np.array(
-        model.robot.link("right_forearm").inertial.com_in_link
-    )
+    """The wrench a rigid grasp applies to hold `load` [N] at the grasped link's centre of mass
+    (`GRASPED_LINK`): -load, and minus its moment about the palm centre, in the palm frame."""
+    link, link_rotation = model.frame_pose(state, GRASPED_LINK)
+    com = link + link_rotation @ np.array(model.robot.link(GRASPED_LINK).inertial.com_in_link)
     palm, palm_rotation = model.frame_pose(state, "right_palm")
     return np.concatenate([palm_rotation.T @ -load, palm_rotation.T @ -np.cross(com - palm, load)])
 
@@ -139,9 +146,11 @@ def test_a_grasp_holds_a_pull_that_a_pressed_palm_cannot(robot, model, initial, 
     bar = bar_under(palm, 0.003)
     command = pressing(robot, model, initial)
     duration = LOAD_END
-    contact_only = run(robot, sim_name, Scene(boxes=(bar,)), initial, command, duration, LOAD)
+    contact_only = run(
+        robot, sim_name, Scene(boxes=(bar,)), initial, command, duration, LOAD, link=GRASPED_LINK
+    )
     grasp = Scene(boxes=(bar,), grasps=(Grasp(HAND, "bar", GRASP_START),))
-    loaded = run(robot, sim_name, grasp, initial, command, duration, LOAD)
+    loaded = run(robot, sim_name, grasp, initial, command, duration, LOAD, link=GRASPED_LINK)
     unloaded = run(robot, sim_name, grasp, initial, command, duration)
     for trace in (contact_only, loaded, unloaded):
         assert trace["fall"] is None
@@ -150,7 +159,7 @@ def test_a_grasp_holds_a_pull_that_a_pressed_palm_cannot(robot, model, initial, 
     # palm contact only: pressing before the pull (about 80 N); the pull unloads it and drags
     # the hand away (along the bar and off its edge: 0.12-0.14 m)
     assert contact_only["flag"][start]
-    assert contact_only["wrench"][start, 2] > 40.0
+    assert contact_only["wrench"][start, 2] > 20.0
     assert not contact_only["flag"][end]
     np.testing.assert_array_equal(contact_only["wrench"][end], 0.0)
     assert np.linalg.norm(contact_only["palm"][end] - contact_only["palm"][start]) > 0.02  # [m]
@@ -166,7 +175,9 @@ def test_a_grasp_holds_a_pull_that_a_pressed_palm_cannot(robot, model, initial, 
     expected = expected_wrench(model, loaded["state"][end], LOAD)
     np.testing.assert_allclose(change[:3], expected[:3], rtol=0, atol=1.0)  # [N]
     np.testing.assert_allclose(change[3:], expected[3:], rtol=0, atol=0.1)  # [N m]
-    assert abs(expected[4]) > 3.0  # the moment is not negligible: its check can fail
+    # the moment is not negligible next to the 0.1 N m tolerance (0.4 N m: the hand link's
+    # centre of mass is 1 cm from the palm; a sign or frame error would be off by 0.8 N m)
+    assert abs(expected[4]) > 0.3
 
 
 @pytest.mark.parametrize("sim_name", SIMS)
