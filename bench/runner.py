@@ -196,6 +196,40 @@ def _latency(trace: pd.DataFrame) -> dict[str, dict[str, float]]:
     return result
 
 
+TABLE_IV_ROWS = ("centroidal_control", "reference", "preview", "projection", "distribution")
+"""Murooka Table IV's rows: "Total control" (planner and stabilizer) and its four stages."""
+
+
+def _latency_by_contacts(trace: pd.DataFrame) -> dict[str, dict[str, dict[str, float]]]:
+    """Table IV's rows per number of planned contacts (Murooka: "the higher the number of
+    robot contacts, the more time is required for wrench projection and distribution"):
+    {"n": {stage: {"periods", "mean", "median", "p99"}}} [µs], for each n that occurs and
+    each stage the controller times."""
+    if "contacts_planned" not in trace.columns:
+        return {}
+    counts = trace["contacts_planned"].to_numpy()
+    result: dict[str, dict[str, dict[str, float]]] = {}
+    for n in np.unique(counts):
+        mask = counts == n
+        stages = {}
+        for stage in TABLE_IV_ROWS:
+            column = f"t_{stage}_us"
+            if column not in trace.columns:
+                continue
+            values = trace[column].to_numpy()[mask]
+            values = values[~np.isnan(values)]
+            if len(values):
+                stages[stage] = {
+                    "periods": len(values),
+                    "mean": float(values.mean()),
+                    "median": float(np.median(values)),
+                    "p99": float(np.percentile(values, 99)),
+                }
+        if stages:
+            result[str(int(n))] = stages
+    return result
+
+
 def clear_setup_caches() -> None:
     """Forget every per-process set-up cache (robots, pinocchio models, compiled MuJoCo models,
     idle PyBullet clients): the next episode sets up from scratch, as in a new worker."""
@@ -248,6 +282,7 @@ def run_episode(spec: EpisodeSpec, progress: MutableSequence[float] | None = Non
         "final_yaw_error_rad": None,
         "hand_error_final_m": None,
         "angular_momentum_error": None,
+        "latency_by_contacts_us": {},
     }
     trace = _Trace(0, ())
     sim = None
@@ -401,6 +436,7 @@ def run_episode(spec: EpisodeSpec, progress: MutableSequence[float] | None = Non
     summary["duration"] = simulated
     summary["real_time_factor"] = simulated / wall if wall > 0 else None
     summary["latency_us"] = _latency(frame)
+    summary["latency_by_contacts_us"] = _latency_by_contacts(frame)
     if len(frame):
         error = (
             frame[["com_actual_x", "com_actual_y", "com_actual_z"]].to_numpy()
@@ -518,6 +554,7 @@ def _record(
 ) -> None:
     put, vector = trace.put, trace.put_vector
     put("time", t)
+    put("contacts_planned", len(plan.contact_limbs), np.int8)
     vector("com_ref", plan.com_reference_world)
     vector("com_planned", plan.com_planned_world)
     vector("com_desired", targets.com_desired_world)

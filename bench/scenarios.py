@@ -19,6 +19,8 @@
   the robot must walk to it. Judged by the hand error (`bench.runner`, `hand_error_m`).
 - `reach_push`: the same, Sec. VII-C, Test 2: plus two 15 N s pushes to the torso, from the
   right at 2.5 s and from the front at 7 s (`REACH_PUSHES`).
+- Murooka et al. 2022's multi-contact motions (Fig. 4), `bench.motions`: `moving_contacts`
+  (E).
 
 Walks are built from a `GaitCommand` (forward and lateral step length or speed, turn per step
 or yaw rate, step width, step period, double-support ratio, swing height, steps, standing time
@@ -34,10 +36,11 @@ from dataclasses import dataclass, replace
 import numpy as np
 
 from bench.limits import MAX_WALK_STEPS
+from bench.motions import moving_contacts_motion
 from centroidal.rotations import heading_quaternion
 from robots.gait import GAIT_STEPS, GaitCommand
 from robots.model import RobotModel
-from robots.registry import FLAT_GROUND
+from robots.registry import FLAT_GROUND, MULTI_CONTACT
 from robots.scene import Contact, ContactPhase, HandTarget, PushEvent, Scenario, Scene
 
 WALK_STEPS = GAIT_STEPS  # steps of `walk` (and so the single-support phases `walk_push` pushes)
@@ -328,6 +331,12 @@ SCENARIOS: dict[str, ScenarioSpec] = {
         "reach_push",
         reach_push,
         "Sherikov 2014 Test 2: reach, pushed 15 N s for 0.1 s at 2.5 s (to +y), 7 s (to -x)",
+    ),
+    "moving_contacts": ScenarioSpec(
+        "moving_contacts",
+        moving_contacts_motion,
+        "Murooka 2022 Fig. 4 (E): hands on two walls, balancing on moving floors and walls",
+        requires=MULTI_CONTACT,
     ),
 }
 WALKS_WITH_SPEED = ("walk", "walk_push")  # the scenarios whose forward speed can be set

@@ -3,9 +3,12 @@ V-C): piecewise constant and synchronised with the contact switches.
 
 - Horizontal CoM: the centre of the supporting feet (the supporting foot in single support,
   the middle of both in double support); the centre of all contacts when no foot is in contact;
-  during a phase without any contact (a flight), the last supported phase's centre.
+  during a phase without any contact (a flight), the last supported phase's centre; plus the
+  phase's `com_offset_world` (Sec. V-C: the handrail stairs' 50 mm inward offset in single
+  support, the ladder's CoM behind the ladder).
 - Vertical CoM: the mean height of the supporting feet plus a constant offset (the initial CoM
-  height above the soles).
+  height above the soles); in a phase on the hands alone, that of the last phase with a foot
+  ("the mean of the foot contact positions", Sec. V-C).
 - Base orientation: zero (level, yaw 0); a turning walk's yaw follows the support's heading
   (`yaw_reference`, an adaptation). Reference resultant force and moment: zero.
 """
@@ -27,11 +30,21 @@ def support_centre(scenario: Scenario, time: float) -> tuple[np.ndarray, float]:
             raise ValueError(f"no contact at or before t = {time} s: no support reference")
         return support_centre(scenario, earlier[-1].start)
     contacts = phase.contacts
-    feet = [c.position_world for c in contacts if c.limb.endswith("foot")] or [
-        c.position_world for c in contacts
-    ]
+    feet = [c.position_world for c in contacts if c.limb.endswith("foot")]
+    if not feet:  # hands only: their centre; the height of the last phase with a foot
+        points = np.asarray([c.position_world for c in contacts], dtype=float)
+        earlier = [
+            p
+            for p in scenario.phases
+            if p.end <= phase.start and any(c.limb.endswith("foot") for c in p.contacts)
+        ]
+        height = support_centre(scenario, earlier[-1].start)[1] if earlier else points[:, 2].mean()
+        return points[:, :2].mean(axis=0) + phase.com_offset_world, float(height)
     points = np.asarray(feet, dtype=float)
-    return points[:, :2].mean(axis=0), float(points[:, 2].mean())
+    centre = points[:, :2].mean(axis=0)
+    if phase.com_offset_world != (0.0, 0.0):
+        centre = centre + phase.com_offset_world
+    return centre, float(points[:, 2].mean())
 
 
 def com_reference(

@@ -92,11 +92,18 @@ SUPPORT_WIDTH = 0.16
 SUPPORT_X_RANGE = (-0.30, 1.50)
 """(D): the supports run from beside the robot's start to 1.5 m ahead (the motion moves
 forward along them)."""
-MOTION_PERIOD_S = 2.0
-"""(E): period of every moving floor and wall at scale 1 (x sqrt(scale))."""
-MOTION_RAMP_PERIODS = 1.0
-"""(E): the motion's amplitude ramps in smoothly over the first period (`MovingBox.ramp_time`),
-so that the robot starts at rest on floors at their mean pose."""
+MOTION_PERIOD_S = 8.0
+"""(E): period of every moving floor and wall at scale 1 (x sqrt(scale)). The paper prints none.
+Its damping control (eq. 15, Table II: K_d 10000 N s/m for a limb in contact) follows a surface
+moving at speed v only with a force error K_d v, so the period decides whether contacts are
+kept: at 20 mm amplitude the peak speed is 2 pi 0.02 / T, 63 mm/s at T = 2 s (630 N of force
+error: more than a foot's load), 16 mm/s at 8 s. Measured with `preview_control` +
+`centroidal_feedback` (MuJoCo / PyBullet, 10 s of motion, `bench.motions.moving_contacts`):
+at 2 s the hands lose the walls and the robot falls at 11.5 s; at 4 s a foot unloads to 0 N;
+at 8 s both feet keep more than 130 N and the hands are on the walls 88 % of the time."""
+MOTION_RAMP_PERIODS = 0.5
+"""(E): the motion's amplitude ramps in smoothly over the first half period
+(`MovingBox.ramp_time`), so that the robot starts at rest on floors at their mean pose."""
 FLOOR_PLATE_LENGTH = 0.80
 FLOOR_PLATE_WIDTH = 0.40
 FLOOR_PLATE_GAP = 0.01
@@ -302,9 +309,9 @@ def moving_contacts(robot: RobotDescription) -> Scene:
     `floor_right`, 0.80 m x 0.40 m x 0.10 m, one under each foot with a 0.01 m gap between them,
     their top faces at z = 0 in their mean pose (where the robot starts). Two moving walls,
     `wall_left` and `wall_right`, faces at y = +-0.45 m, 0.80 m long, 0.10 m thick, from z = 0 to
-    1.80 m. The motions (ours but the amplitudes), with period T = 2.0 s x sqrt(scale) and
-    their amplitude ramping in over the first period (`MovingBox.ramp_time`, so everything
-    starts at rest in its mean pose):
+    1.80 m. The motions (ours but the amplitudes), with period T = `MOTION_PERIOD_S` (8 s) x
+    sqrt(scale) and their amplitude ramping in over the first half period
+    (`MovingBox.ramp_time`, so everything starts at rest in its mean pose):
     - floors: 20 mm vertically (along their normal) and 2 deg about the world y axis (pitch)
       through their centres; the right floor in antiphase to the left (phase pi);
     - walls: 20 mm along y (their normal) and 2 deg about the world x axis (leaning toward and

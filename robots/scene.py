@@ -52,9 +52,15 @@ class MovingBox:
     period: float = 2.0
     phase: float = 0.0
     ramp_time: float = 0.0
+    start_time: float = 0.0
+    """[s] the motion's clock starts here: the box rests at its mean pose before, and t in the
+    formulas above is the time since (a motion's contacts are made before it moves)."""
 
     def _profile(self, time: float) -> tuple[float, float]:
         """s(t) and ds/dt [1/s] (Python-float arithmetic: the same numbers in every caller)."""
+        time = time - self.start_time
+        if time < 0.0:
+            return 0.0, 0.0
         omega = 2.0 * math.pi / self.period
         angle = omega * time + self.phase
         wave, wave_rate = math.sin(angle), omega * math.cos(angle)
@@ -111,6 +117,10 @@ class MovingBox:
         if not (math.isfinite(self.ramp_time) and self.ramp_time >= 0):
             raise ValueError(
                 f"moving box {self.name!r}: ramp_time must be >= 0, got {self.ramp_time}"
+            )
+        if not (math.isfinite(self.start_time) and self.start_time >= 0):
+            raise ValueError(
+                f"moving box {self.name!r}: start_time must be >= 0, got {self.start_time}"
             )
         if math.hypot(*self.rotation_axis_world) < 1e-12:
             raise ValueError(f"moving box {self.name!r}: rotation_axis_world must not be zero")
@@ -209,15 +219,32 @@ class Contact:
 
 @dataclass(frozen=True)
 class ContactPhase:
-    """The contacts that hold from `start` to `end` [s]."""
+    """The contacts that hold from `start` to `end` [s]. `com_offset_world` [m] (x, y) moves
+    the horizontal CoM reference of the phase from the rule's support centre (Murooka Sec.
+    V-C: 50 mm inward in the single support of the handrail stairs; the ladder's CoM 0.4 m
+    behind its centre, 0.1 m forward; `planners.reference.support_centre`)."""
 
     start: float
     end: float
     contacts: tuple[Contact, ...]
+    com_offset_world: tuple[float, float] = (0.0, 0.0)
 
     @property
     def limbs(self) -> tuple[str, ...]:
         return tuple(c.limb for c in self.contacts)
+
+
+@dataclass(frozen=True)
+class LimbWaypoint:
+    """A pose a free limb passes through: `limb`'s contact frame at `position_world` [m] and
+    `orientation_world` (w, x, y, z) at `time` [s], while it is in no contact. A limb's target
+    moves from contact or waypoint to the next contact or waypoint (`Scenario.limb_pose`):
+    a hand leaving its hanging pose for a wall starts from a waypoint there."""
+
+    limb: str
+    time: float
+    position_world: tuple[float, float, float]
+    orientation_world: tuple[float, float, float, float] = (1.0, 0.0, 0.0, 0.0)
 
 
 @dataclass(frozen=True)
@@ -267,6 +294,14 @@ class Scenario:
     hand_targets: tuple[HandTarget, ...] = ()
     """Where limbs' contact frames should be, from given times on (`hand_target_at`); empty:
     no task target."""
+    limb_waypoints: tuple[LimbWaypoint, ...] = ()
+    """Poses free limbs pass through between contacts (`LimbWaypoint`, `limb_pose`)."""
+    hand_contact_kd_linear: float | None = None
+    """Murooka Table II's note: the linear K_d [N s/m] of the hands' damping control in the
+    contact phase for this motion (1000 walking with a hand on the wall, 50000 on the
+    ladder); None: the table's 10000."""
+    ladder_gains: bool = False
+    """Murooka Table III's note: the centroidal feedback gains for climbing the ladder."""
 
     @functools.cached_property
     def _hand_timeline(self) -> dict[str, tuple[list[float], list[np.ndarray]]]:
@@ -306,6 +341,10 @@ class Scenario:
         for phase in phases:
             for contact in phase.contacts:
                 per_limb.setdefault(contact.limb, []).append((phase.start, phase.end, contact))
+        for waypoint in self.limb_waypoints:  # a zero-length span: never "in contact"
+            spans = per_limb.setdefault(waypoint.limb, [])
+            spans.append((waypoint.time, waypoint.time, _waypoint_contact(waypoint)))
+            spans.sort(key=lambda span: span[0])
         return [p.start for p in phases], {
             limb: ([start for start, _, _ in spans], spans) for limb, spans in per_limb.items()
         }
@@ -338,9 +377,17 @@ class Scenario:
                         current = (phase.start, contact)
                         return current, current
                     if phase.end <= time:
-                        previous = (phase.end, contact)
-                    elif following is None and phase.start > time:
+                        if previous is None or phase.end >= previous[0]:
+                            previous = (phase.end, contact)
+                    elif following is None or phase.start < following[0]:
                         following = (phase.start, contact)
+            for waypoint in self.limb_waypoints:
+                if waypoint.limb != limb:
+                    continue
+                if waypoint.time <= time and (previous is None or waypoint.time >= previous[0]):
+                    previous = (waypoint.time, _waypoint_contact(waypoint))
+                elif waypoint.time > time and (following is None or waypoint.time < following[0]):
+                    following = (waypoint.time, _waypoint_contact(waypoint))
             return previous, following
         starts, spans = timeline[1].get(limb, ((), ()))
         i = bisect.bisect_right(starts, time) - 1  # the last span starting by `time`
@@ -353,13 +400,15 @@ class Scenario:
 
     def limb_pose(self, limb: str, time: float) -> tuple[np.ndarray, np.ndarray] | None:
         """Target pose of `limb`'s contact frame at `time` [s]: its contact pose while in
-        contact; between two contacts, a swing from the last to the next (horizontal position
-        and yaw along a quintic blend with zero velocity and acceleration at both ends, plus a
-        vertical clearance `swing_height` * 64 s^3 (1 - s)^3: peak `swing_height` at mid-swing,
-        and zero vertical velocity and acceleration at lift-off and touchdown, so that the foot
-        lands softly; a sin(pi s) bump, used before, landed at 0.2 m/s and made the sole
-        chatter on MuJoCo's contact for 0.15 s); None if the limb is never in contact around
-        `time`. Returns (position [m], orientation (w, x, y, z))."""
+        contact; between two contacts (or `limb_waypoints`), a swing from the last to the
+        next (position and orientation along a quintic blend with zero velocity and
+        acceleration at both ends, plus a clearance `swing_height` * 64 s^3 (1 - s)^3 along the
+        mean of the two contacts' normals (their frames' z axes: vertical for feet on level
+        ground, away from the wall for a hand moving on a wall): peak `swing_height` at
+        mid-swing, and zero normal velocity and acceleration at lift-off and touchdown, so that
+        the foot lands softly; a sin(pi s) bump, used before, landed at 0.2 m/s and made the
+        sole chatter on MuJoCo's contact for 0.15 s); None if the limb is never in contact
+        around `time`. Returns (position [m], orientation (w, x, y, z))."""
         previous, following = self._neighbours(limb, time)
         if previous is following is not None:  # in contact
             contact = previous[1]
@@ -380,9 +429,39 @@ class Scenario:
         blend = s**3 * (10 - 15 * s + 6 * s * s)
         p0, p1 = np.array(start.position_world), np.array(end.position_world)
         position = p0 + blend * (p1 - p0)
-        position[2] += self.swing_height * 64.0 * (s * (1.0 - s)) ** 3
+        clearance = self.swing_height * 64.0 * (s * (1.0 - s)) ** 3
+        normal = _mean_normal(start.orientation_world, end.orientation_world)
+        if normal is None:  # both level (z up): the vertical, exactly as before
+            position[2] += clearance
+        else:
+            position += clearance * normal
         q0, q1 = np.array(start.orientation_world), np.array(end.orientation_world)
         if q0 @ q1 < 0:
             q1 = -q1
         orientation = q0 + blend * (q1 - q0)  # normalised lerp: exact for equal orientations
         return position, orientation / np.linalg.norm(orientation)
+
+
+def _waypoint_contact(waypoint: LimbWaypoint) -> Contact:
+    """A waypoint as the pose record `limb_pose` blends between (not a contact)."""
+    return Contact(waypoint.limb, waypoint.position_world, waypoint.orientation_world)
+
+
+def contact_normal(orientation_world) -> tuple[float, float, float]:
+    """The z axis (third column of the rotation matrix) of the unit quaternion (w, x, y, z): a
+    contact frame's normal in the world (into the limb: the direction of a pressing force)."""
+    w, x, y, z = orientation_world
+    return (2.0 * (x * z + w * y), 2.0 * (y * z - w * x), 1.0 - 2.0 * (x * x + y * y))
+
+
+def _mean_normal(q0, q1) -> np.ndarray | None:
+    """The unit mean of two contact frames' normals; None when both are the world z axis
+    (level contacts of any yaw: the clearance is then added to z alone, as it always was)."""
+    n0, n1 = contact_normal(q0), contact_normal(q1)
+    if n0[0] == n0[1] == n1[0] == n1[1] == 0.0:
+        return None
+    mean = np.add(n0, n1)
+    norm = float(np.linalg.norm(mean))
+    if norm < 1e-9:  # opposite normals: no common direction away from both
+        return np.zeros(3)
+    return mean / norm

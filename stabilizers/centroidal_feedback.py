@@ -55,6 +55,11 @@ TABLE_III = {
     "kp": (2000.0, 2000.0, 2000.0, 0.0, 0.0, 0.0),
     "kd": (666.0, 666.0, 666.0, 0.0, 0.0, 0.0),
 }
+TABLE_III_LADDER = {
+    "kp": (3000.0, 3000.0, 3000.0, 1000.0, 1000.0, 1000.0),
+    "kd": (1000.0, 1000.0, 1000.0, 333.0, 333.0, 333.0),
+}
+"""Table III's note: the gains "for climbing a vertical ladder in Fig. 4"."""
 TABLE_II = {
     "contact": {
         "kd": (1e4, 1e4, 1e4, 100.0, 100.0, 100.0),
@@ -88,14 +93,30 @@ def appendix_gains(mass: float, omega2: float, k_xi: float) -> tuple[float, floa
     return mass * omega2 * k_xi, mass * np.sqrt(omega2) * k_xi
 
 
-def scaled_table_iii(mass: float, com_height: float) -> tuple[np.ndarray, np.ndarray]:
-    """Table III's K_P, K_D (6,) rescaled from HRP-5P to a robot of `mass` [kg] and CoM height
-    [m] by eq. 19 (angular gains unchanged: zero)."""
+def scaled_table_iii(
+    mass: float, com_height: float, ladder: bool = False
+) -> tuple[np.ndarray, np.ndarray]:
+    """Table III's K_P, K_D (6,) (its ladder row if `ladder`) rescaled from HRP-5P to a robot
+    of `mass` [kg] and CoM height [m]: the linear gains by eq. 19, the angular gains (the
+    ladder's only; zero otherwise) by `angular_gain_ratio`."""
     omega2 = GRAVITY / com_height
-    kp, kd = np.array(TABLE_III["kp"]), np.array(TABLE_III["kd"])
+    table = TABLE_III_LADDER if ladder else TABLE_III
+    kp, kd = np.array(table["kp"]), np.array(table["kd"])
     kp[:3] *= mass * omega2 / (HRP5P["mass"] * HRP5P["omega2"])
     kd[:3] *= mass * np.sqrt(omega2) / (HRP5P["mass"] * np.sqrt(HRP5P["omega2"]))
+    ratio = angular_gain_ratio(mass, com_height)
+    kp[3:] *= ratio
+    kd[3:] *= ratio
     return kp, kd
+
+
+def angular_gain_ratio(mass: float, com_height: float) -> float:
+    """Adaptation of Table III's angular gains (N m/rad, N m s/rad) to our robot: the ratio of
+    the robots' inertia scales m h^2 (h the CoM height; HRP-5P: 105 kg, 9.8 / omega^2 = 0.95
+    m), which keeps the angular loop's natural frequency sqrt(K_PA / I) and damping ratio of
+    Table III, as eq. 19 keeps the linear loop's DCM gain. The paper prints no relation."""
+    hrp_height = 9.8 / HRP5P["omega2"]
+    return mass * com_height**2 / (HRP5P["mass"] * hrp_height**2)
 
 
 @dataclass(frozen=True)
@@ -123,7 +144,9 @@ class CentroidalFeedbackStabilizer:
     def reset(self, robot: RobotModel, scenario: Scenario, state: RobotState) -> None:
         description = robot.robot
         self.mass = description.total_mass
-        self.kp, self.kd = scaled_table_iii(self.mass, float(state.com_position_world[2]))
+        com_height = float(state.com_position_world[2])  # every scenario starts at z = 0
+        self.kp, self.kd = scaled_table_iii(self.mass, com_height, scenario.ladder_gains)
+        self.hand_kd_linear = scenario.hand_contact_kd_linear
         self.limbs = description.limbs
         self.limb_names = description.limb_names
         friction = scenario.scene.friction
@@ -168,6 +191,10 @@ class CentroidalFeedbackStabilizer:
         mode = "single" if len(index) == 1 else "contact"
         parameters = [_DAMPING[mode if k in index else "free"] for k in range(len(self.limb_names))]
         kd, ks, kf = (np.array([p[i] for p in parameters]) for i in range(3))
+        if self.hand_kd_linear is not None and mode == "contact":  # Table II's note
+            for k in index:
+                if self.limb_names[k].endswith("hand"):
+                    kd[k, :3] = self.hand_kd_linear
         height = float(positions[index, 2].mean()) if len(index) else 0.0
         in_contact = np.zeros(len(self.limb_names), dtype=bool)
         in_contact[index] = True

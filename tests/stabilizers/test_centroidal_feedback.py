@@ -164,3 +164,50 @@ def test_distribution_reproduces_the_desired_wrench_when_feasible(standing):
     for foot in ("left_foot", "right_foot"):
         fz = targets.contact_wrench_desired_limb[names.index(foot), 2]
         assert fz == pytest.approx(weight / 2, rel=0.02)
+
+
+def test_ladder_gains_are_table_iiis_note_for_hrp5p():
+    """Table III's note for the ladder: K_P = diag(3000 x 3, 1000 x 3), K_D = diag(1000 x 3,
+    333 x 3): for HRP-5P (105 kg, CoM 0.95 m) the angular gains as printed, and for any robot
+    the linear ones 1.5 times the default row's, as the table's."""
+    kp, kd = scaled_table_iii(105.0, 0.95, ladder=True)
+    np.testing.assert_allclose(kp[3:], [1000] * 3, rtol=1e-12)
+    np.testing.assert_allclose(kd[3:], [333] * 3, rtol=1e-12)
+    for mass, height in ((105.0, 0.95), (58.4, 0.826)):
+        kp, kd = scaled_table_iii(mass, height, ladder=True)
+        kp0, kd0 = scaled_table_iii(mass, height)
+        np.testing.assert_allclose(kp[:3], 1.5 * kp0[:3], rtol=1e-12)
+        np.testing.assert_allclose(kd[:3], 1000 / 666 * kd0[:3], rtol=1e-12)
+
+
+def test_angular_gains_scale_with_the_inertia_scale():
+    """`angular_gain_ratio`: m h^2; twice the mass doubles the angular gains, twice the
+    height quadruples them; HRP-5P's own numbers give 1."""
+    from stabilizers.centroidal_feedback import angular_gain_ratio
+
+    assert angular_gain_ratio(105.0, 0.95) == pytest.approx(1.0, rel=1e-12)
+    assert angular_gain_ratio(120.0, 0.8) == pytest.approx(2 * angular_gain_ratio(60.0, 0.8))
+    assert angular_gain_ratio(60.0, 1.6) == pytest.approx(4 * angular_gain_ratio(60.0, 0.8))
+
+
+def test_a_motions_hand_damping_replaces_table_iis_hand_kd(standing):
+    """Table II's note: a motion's hand K_d (1000 on the wall) for hands in contact with
+    others; the feet keep 10000, and a free hand the non-contact values."""
+    from dataclasses import replace
+
+    from stabilizers.centroidal_feedback import CentroidalFeedbackStabilizer
+
+    model, scenario, state = standing
+    names = model.robot.limb_names
+    stabilizer, plan = _stabilizer_and_plan(standing, ("left_foot", "right_foot", "left_hand"))
+    default = stabilizer._configuration(plan).kd
+    stabilizer = CentroidalFeedbackStabilizer(DT)
+    stabilizer.reset(model, replace(scenario, hand_contact_kd_linear=1000.0), state)
+    kd = stabilizer._configuration(plan).kd
+    left_hand, right_hand = names.index("left_hand"), names.index("right_hand")
+    assert default[left_hand, :3].tolist() == [1e4] * 3
+    assert kd[left_hand, :3].tolist() == [1000.0] * 3
+    assert kd[left_hand, 3:].tolist() == default[left_hand, 3:].tolist()
+    assert kd[right_hand].tolist() == default[right_hand].tolist() == [300.0] * 3 + [40.0] * 3
+    for foot in ("left_foot", "right_foot"):
+        assert kd[names.index(foot)].tolist() == default[names.index(foot)].tolist()
