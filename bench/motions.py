@@ -20,10 +20,24 @@ import math
 from dataclasses import replace
 
 import numpy as np
+from scipy.spatial.transform import Rotation
 
 from robots.model import RobotModel
-from robots.multi_contact_scenes import MOTION_PERIOD_S, WALL_INNER_FACE_Y, moving_contacts
-from robots.scene import Contact, ContactPhase, LimbWaypoint, Scenario
+from robots.multi_contact_scenes import (
+    HANDRAIL_HALF_SECTION,
+    HANDRAIL_HEIGHT,
+    HANDRAIL_RUNOUT,
+    HANDRAIL_Y,
+    MOTION_PERIOD_S,
+    PAPER_STEP_COUNT,
+    PAPER_STEP_RISE_M,
+    STEP_RUN,
+    WALKWAY_START_X,
+    WALL_INNER_FACE_Y,
+    handrail_stairs,
+    moving_contacts,
+)
+from robots.scene import Contact, ContactPhase, Grasp, LimbWaypoint, Scenario
 
 Quaternion = tuple[float, float, float, float]
 
@@ -49,16 +63,54 @@ MOVING_BALANCE_PERIODS = 2.0
 (`MOTION_PERIOD_S`, 16 s at scale 1; the first half period ramps the amplitude in)."""
 
 
+LIFT_FRACTION = 0.3
+"""A lifted swing (`ContactSequence.move(lift=...)`) rises for this fraction of its time,
+moves across for 1 - 2 x it, and comes down for the rest."""
+
+STAIRS_STAND_S = 1.0
+STAIRS_REACH_S = 2.0
+STAIRS_SWING_S = 1.0
+STAIRS_DOUBLE_S = 0.6
+STAIRS_HAND_MOVE_S = 2.0
+"""[s] at scale 1 of `handrail_stairs`: standing first, each hand's first reach to its rail,
+each foot's swing (single support), each double support after a step or a hand's move, and
+each hand's move along its rail."""
+STAIRS_SETTLE_S = 0.5
+"""[s] at scale 1: a hand reaches its grasp pose this long before the grasp is made, and
+waits (`ContactSequence.move(settle=...)`): made at once, the grasps were 3-5 cm off their
+targets, the position-servoed arm's lag, and the damping control fought the offset."""
+STAIRS_LIFT = 0.05
+"""[m] at scale 1: a foot's swing rises to this above the higher tread before moving across
+(the stair's nosing is 0.19 m ahead of the toes on the ground)."""
+STAIRS_APPROACH_X = 0.15
+"""[m] at scale 1: the feet first step to 0.15 m ahead (toes 0.04 m short of the first
+riser), so that every step up is one tread (0.30 m) long."""
+STAIRS_HAND_START = 0.20
+"""[m] at scale 1: the hands' first grasps, 0.20 m ahead of the feet."""
+STAIRS_HAND_AHEAD = 0.35
+"""[m] at scale 1: after both feet are on a tread (or the approach step), each hand in turn
+moves along its rail to 0.35 m ahead of the feet (at most to the rail's end): the body then
+advances one tread (0.30 m) before the hands move again, so a hand stays 0.05 to 0.35 m ahead
+of its shoulder, inside the range where the arm reaches `RAIL_PALM_EULER_DEG`."""
+PAPER_COM_INWARD_M = 0.050
+"""Sec. V-C, (B): "the CoM lateral position in the single support phase is offset inward by
+50 mm so that the hands support part of the robot's weight"."""
+
+
 class ContactSequence:
     """Builds a motion's contact phases from its start: `hold` keeps the current contacts for a
     while, `move` takes limbs off their contacts (or from free waypoints) for a swing and places
-    them on new ones. `phases` and `waypoints` are the result."""
+    them on new ones (pressed, or grasping a scene box). `phases`, `waypoints` and `grasps`
+    (the scene's `Grasp`s, one per grasp contact, from its touchdown to its lift-off) are the
+    result."""
 
     def __init__(self, contacts: tuple[Contact, ...]) -> None:
         self.contacts: dict[str, Contact] = {c.limb: c for c in contacts}
         self.time = 0.0
         self.phases: list[ContactPhase] = []
         self.waypoints: list[LimbWaypoint] = []
+        self.grasps: list[Grasp] = []
+        self._holding: dict[str, tuple[str, float]] = {}  # limb -> (box, since)
 
     def _phase(self, duration: float, com_offset: tuple[float, float]) -> None:
         if not duration > 0:
@@ -78,28 +130,78 @@ class ContactSequence:
         duration: float,
         start_poses: dict[str, tuple[np.ndarray, np.ndarray]] | None = None,
         com_offset: tuple[float, float] = (0.0, 0.0),
+        boxes: dict[str, str] | None = None,
+        lift: float | None = None,
+        lift_over: bool = True,
+        settle: float = 0.0,
     ) -> None:
         """Each target's limb leaves its contact (or, if it has none, the pose `start_poses`
         gives it: position [m], orientation (w, x, y, z), a waypoint at the move's start) and
-        is placed on the target after `duration` [s] of swing."""
+        is placed on the target after `duration` [s] of swing. A grasping target names its
+        scene box in `boxes` (limb -> box). `lift` [m]: the swing rises straight up to `lift`
+        above the higher of its two ends, moves across at that height and comes straight down
+        (waypoints at `LIFT_FRACTION` of the swing from either end: a foot clears a stair's
+        nosing); with `lift_over` False, to `lift` above each end (a hand moving parallel to a
+        sloped rail). `settle` [s]: the limb reaches the target this long before the contact
+        starts and waits there, free (a grasp is made where the hand is when it starts: the
+        servos' lag then has time to go)."""
+        start = self.time
         for target in targets:
+            if target.limb in self._holding:
+                box, since = self._holding.pop(target.limb)
+                self.grasps.append(Grasp(target.limb, box, since, start))
             if target.limb in self.contacts:
-                del self.contacts[target.limb]
+                origin = self.contacts.pop(target.limb)
             else:
                 if start_poses is None or target.limb not in start_poses:
                     raise ValueError(f"{target.limb!r} is in no contact: give its start pose")
                 position, orientation = start_poses[target.limb]
+                origin = Contact(
+                    target.limb,
+                    tuple(float(v) for v in position),
+                    tuple(float(v) for v in orientation),
+                )
+                self.waypoints.append(
+                    LimbWaypoint(
+                        target.limb, start, origin.position_world, origin.orientation_world
+                    )
+                )
+            swing = duration - settle
+            if not swing > 0:
+                raise ValueError(f"settle {settle} s leaves no swing in {duration} s")
+            if settle > 0:
                 self.waypoints.append(
                     LimbWaypoint(
                         target.limb,
-                        self.time,
-                        tuple(float(v) for v in position),
-                        tuple(float(v) for v in orientation),
+                        start + swing,
+                        target.position_world,
+                        target.orientation_world,
                     )
                 )
+            if lift is not None:
+                top = max(origin.position_world[2], target.position_world[2]) + lift
+                for fraction, pose in ((LIFT_FRACTION, origin), (1 - LIFT_FRACTION, target)):
+                    x, y, z = pose.position_world
+                    self.waypoints.append(
+                        LimbWaypoint(
+                            target.limb,
+                            start + fraction * swing,
+                            (x, y, top if lift_over else z + lift),
+                            pose.orientation_world,
+                        )
+                    )
         self._phase(duration, com_offset)
         for target in targets:
             self.contacts[target.limb] = target
+            if target.grasp:
+                if boxes is None or target.limb not in boxes:
+                    raise ValueError(f"{target.limb!r} grasps: name its box in `boxes`")
+                self._holding[target.limb] = (boxes[target.limb], self.time)
+
+    def all_grasps(self) -> tuple[Grasp, ...]:
+        """The grasps made so far, those still held lasting to the end (`Grasp.end` inf)."""
+        held = [Grasp(limb, box, since) for limb, (box, since) in self._holding.items()]
+        return tuple(sorted([*self.grasps, *held], key=lambda g: (g.start, g.limb)))
 
 
 def _limb_poses(model: RobotModel) -> dict[str, tuple[np.ndarray, np.ndarray]]:
@@ -163,15 +265,25 @@ def moving_contacts_motion(model: RobotModel, duration: float | None = None) -> 
 
 
 def _scenario(
-    name: str, scene, sequence: ContactSequence, model: RobotModel, duration: float | None
+    name: str,
+    scene,
+    sequence: ContactSequence,
+    model: RobotModel,
+    duration: float | None,
+    **settings,
 ) -> Scenario:
-    """The motion as a `Scenario`; a `duration` [s] cuts it short or holds the last phase."""
+    """The motion as a `Scenario` with the sequence's grasps in its scene and `settings` (the
+    motion's Scenario fields, e.g. its hand damping); a `duration` [s] cuts it short or holds
+    the last phase."""
     phases = list(sequence.phases)
     total = sequence.time if duration is None else duration
     if duration is not None:
         phases = [p for p in phases if p.start < duration]
         last = phases[-1]
         phases[-1] = ContactPhase(last.start, duration, last.contacts, last.com_offset_world)
+    grasps = sequence.all_grasps()
+    if grasps:
+        scene = replace(scene, grasps=grasps)
     return Scenario(
         name,
         total,
@@ -179,4 +291,125 @@ def _scenario(
         tuple(phases),
         model.robot.nominal_posture,
         limb_waypoints=tuple(sequence.waypoints),
+        **settings,
     )
+
+
+RAIL_PALM_EULER_DEG = (30.0, 20.0, 30.0)
+"""A hand grasping a handrail (left hand; the right one mirrored): its contact frame turned
+-90 deg about y (z axis, into the limb, -x: the hand's end face forward along the rail), then
+by these yaw, pitch, roll [deg] (world z, y, x: turned inward, tilted down, rolled in). Ours,
+from the arm's reach: a search over yaw, pitch, roll in 10 deg steps (and roll +-30) for the
+widest range of the palm's distance ahead of the shoulder, along the rail, over which the
+IK reaches the pose exactly (`bench.motions`' docstring): -0.05 to 0.40 m with these, 0.10 to
+0.40 m without them (the wrist roll or the elbow at a limit outside), against the 0.30 m the
+body advances per tread between two moves of a hand. Turned down onto the rail's top (z up)
+the elbow would have to rise above the shoulder; out onto its inner face (as a palm on a
+wall) the wrist pitch hits its 1.2 rad limit."""
+
+
+def _rail_palm(side: str) -> Quaternion:
+    """`RAIL_PALM_EULER_DEG` as a quaternion (w, x, y, z), mirrored for the right hand."""
+    yaw, pitch, roll = RAIL_PALM_EULER_DEG
+    if side == "right":
+        yaw, roll = -yaw, -roll
+    rotation = Rotation.from_euler("zyx", [yaw, pitch, roll], degrees=True) * Rotation.from_euler(
+        "y", -90.0, degrees=True
+    )
+    x, y, z, w = rotation.as_quat()
+    return (float(w), float(x), float(y), float(z))
+
+
+def _rail_grasp(scale: float, side: str, x: float) -> tuple[Contact, str]:
+    """A hand grasping the `side` rail of `handrail_stairs` at x [m] (`RAIL_PALM_EULER_DEG`):
+    the palm centre over the bar's centre line, 0.05 m (half the pad's length) above the bar's
+    top face; and the rail piece (box) that holds it there."""
+    s = scale
+    run, rise = STEP_RUN * s, PAPER_STEP_RISE_M * s
+    foot_of_slope = WALKWAY_START_X * s - run
+    last_nosing = WALKWAY_START_X * s + (PAPER_STEP_COUNT - 1) * run
+    if x > last_nosing + HANDRAIL_RUNOUT * s or x < foot_of_slope - HANDRAIL_RUNOUT * s:
+        raise ValueError(f"x = {x} m is beyond the rails")
+    if x < foot_of_slope:
+        piece, height, slope = "bottom", HANDRAIL_HEIGHT * s, 0.0
+    elif x <= last_nosing:
+        slope = rise / run
+        piece, height = "slope", HANDRAIL_HEIGHT * s + (x - foot_of_slope) * slope
+    else:
+        piece, height, slope = "top", HANDRAIL_HEIGHT * s + PAPER_STEP_COUNT * rise, 0.0
+    top = height + HANDRAIL_HALF_SECTION * s * math.hypot(1.0, slope)  # the top face at x
+    pad_half_length = 0.05 * s  # the humanoid's palm pad: 0.10 m along the palm's x axis
+    sign = 1.0 if side == "left" else -1.0
+    contact = Contact(
+        f"{side}_hand",
+        (x, sign * HANDRAIL_Y * s, top + pad_half_length),
+        _rail_palm(side),
+        grasp=True,
+    )
+    return contact, f"rail_{side}_{piece}"
+
+
+def handrail_stairs_motion(model: RobotModel, duration: float | None = None) -> Scenario:
+    """Fig. 4 (B): "climbing four steps of 150 mm height with handrails" (`robots.
+    multi_contact_scenes.handrail_stairs`). Standing at the foot of the stairs, the hands grasp
+    the rails 0.20 m ahead (left, then right); the feet step to 0.15 m ahead, then both onto
+    each tread in turn, right foot first (treads' centres; the landing 0.15 m past its
+    nosing), each swing lifted over the nosing (`STAIRS_LIFT`); after both feet are on a
+    tread each hand moves one tread ahead along its rail (released, moved, grasped again).
+    The CoM reference follows Sec. V-C: the feet's centre (single support: the supporting
+    foot's, offset inward by 50 mm, `PAPER_COM_INWARD_M`), at a constant height above their
+    mean; grasps as `Contact.grasp` (the paper's facing pyramids) held by the scene's `Grasp`s.
+    Table II's hand K_d is the table's (the paper gives other values only for (A) and (C))."""
+    robot = model.robot
+    s, time_scale = robot.scale, math.sqrt(robot.scale)
+    poses = _limb_poses(model)
+    feet = {c.limb: c for c in _standing_feet(poses)}
+    sequence = ContactSequence(tuple(feet.values()))
+    sequence.hold(STAIRS_STAND_S * time_scale)
+    hand_x = STAIRS_HAND_START * s
+    for side in ("left", "right"):
+        grasp, box = _rail_grasp(s, side, hand_x)
+        sequence.move(
+            (grasp,),
+            STAIRS_REACH_S * time_scale,
+            poses,
+            boxes={grasp.limb: box},
+            lift=STAIRS_LIFT * s,
+            settle=STAIRS_SETTLE_S * time_scale,
+        )
+        sequence.hold(STAIRS_DOUBLE_S * time_scale)
+    run, rise = STEP_RUN * s, PAPER_STEP_RISE_M * s
+    treads = [(STAIRS_APPROACH_X * s, 0.0)]
+    for k in range(1, PAPER_STEP_COUNT + 1):
+        front = WALKWAY_START_X * s + (k - 1) * run
+        treads.append((front + 0.5 * run, k * rise))
+    inward = PAPER_COM_INWARD_M * s
+    for x, z in treads:
+        for foot in ("right_foot", "left_foot"):
+            y = feet[foot].position_world[1]
+            target = Contact(foot, (x, y, z))
+            other = "left_foot" if foot == "right_foot" else "right_foot"
+            support_y = feet[other].position_world[1]
+            offset = (0.0, -math.copysign(inward, support_y))  # towards the middle
+            sequence.move(
+                (target,), STAIRS_SWING_S * time_scale, com_offset=offset, lift=STAIRS_LIFT * s
+            )
+            feet[foot] = target
+            sequence.hold(STAIRS_DOUBLE_S * time_scale)
+        rail_end = WALKWAY_START_X * s + (PAPER_STEP_COUNT - 1) * run + HANDRAIL_RUNOUT * s
+        hand_x = min(x + STAIRS_HAND_AHEAD * s, rail_end - 0.05 * s)
+        for side in ("left", "right"):
+            grasp, box = _rail_grasp(s, side, hand_x)
+            sequence.move(
+                (grasp,),
+                STAIRS_HAND_MOVE_S * time_scale,
+                boxes={grasp.limb: box},
+                lift=STAIRS_LIFT * s,
+                lift_over=False,
+                settle=STAIRS_SETTLE_S * time_scale,
+            )
+            sequence.hold(STAIRS_DOUBLE_S * time_scale)
+    sequence.hold(STAIRS_STAND_S * time_scale)
+    scene = handrail_stairs(robot)
+    # every swing is lifted (`STAIRS_LIFT`): no clearance bump on top of it
+    return _scenario("handrail_stairs", scene, sequence, model, duration, swing_height=0.0)

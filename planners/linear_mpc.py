@@ -229,6 +229,7 @@ class LinearMpcPlanner:
             wrench_projected_world=wrench_projected,
             zmp_planned_world=zmp,
             contact_limbs=phase.limbs,
+            grasp_limbs=self._phase_contacts.grasps(phase),
             footsteps=self.schedule.upcoming(t),
             limb_target_position_world=positions,
             limb_target_orientation_world=orientations,

@@ -304,7 +304,12 @@ def humanoid(scale: float = 1.0, total_mass: float | None = None) -> RobotDescri
         ]
         limbs.append(
             Limb(
-                f"{s}_hand", f"{s}_hand_link", f"{s}_palm", f"{s}_wrist_ft", v(0.05, 0.04, 0.0)[:2]
+                f"{s}_hand",
+                f"{s}_hand_link",
+                f"{s}_palm",
+                f"{s}_wrist_ft",
+                v(0.05, 0.04, 0.0)[:2],
+                touch_links=(f"{s}_upper_arm", f"{s}_forearm", f"{s}_wrist_link"),
             )
         )
 

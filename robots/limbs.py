@@ -4,6 +4,7 @@ stabilizers that distribute wrenches."""
 from __future__ import annotations
 
 import bisect
+from dataclasses import replace
 
 import numpy as np
 
@@ -24,14 +25,24 @@ class PhaseContacts:
 
     def __init__(self, surfaces: dict[str, ContactSurface]) -> None:
         self.surfaces = surfaces
+        self.grasping = grasp_surfaces(surfaces)
         self._built: dict[int, tuple[ContactPhase, ContactSet, float]] = {}
+        self._grasps: dict[int, tuple[ContactPhase, tuple[str, ...]]] = {}
+
+    def grasps(self, phase: ContactPhase) -> tuple[str, ...]:
+        """The limbs of `phase` that grasp (cached per phase object)."""
+        known = self._grasps.get(id(phase))
+        if known is None or known[0] is not phase:
+            limbs = tuple(c.limb for c in phase.contacts if c.grasp)
+            known = self._grasps[id(phase)] = (phase, limbs)
+        return known[1]
 
     def __call__(self, phase: ContactPhase) -> tuple[ContactSet, float]:
         built = self._built.get(id(phase))
         if built is None or built[0] is not phase:
             contacts = contact_set(
                 [c.limb for c in phase.contacts],
-                [self.surfaces[c.limb] for c in phase.contacts],
+                [(self.grasping if c.grasp else self.surfaces)[c.limb] for c in phase.contacts],
                 [np.asarray(c.position_world, dtype=float) for c in phase.contacts],
                 [to_matrix(c.orientation_world) for c in phase.contacts],
             )
@@ -39,6 +50,11 @@ class PhaseContacts:
             height = float(np.mean(heights)) if heights else 0.0
             built = self._built[id(phase)] = (phase, contacts, height)
         return built[1], built[2]
+
+
+def grasp_surfaces(surfaces: dict[str, ContactSurface]) -> dict[str, ContactSurface]:
+    """Each limb's surface as a grasp: the same polygon with the opposing pyramids."""
+    return {name: replace(surface, grasp=True) for name, surface in surfaces.items()}
 
 
 def limb_surfaces(robot: RobotDescription, friction: float) -> dict[str, ContactSurface]:

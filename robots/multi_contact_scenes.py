@@ -65,13 +65,16 @@ STEP_RUN = 0.30
 LANDING_DEPTH = 0.60
 """(B): the fourth step's tread, deep enough for both feet side by side."""
 STAIR_WIDTH = 0.70
-HANDRAIL_Y = 0.45
-"""(B): rail centre lines 0.45 m either side of the stairs' centre line, 0.10 m outside the
-stairs' edges, 0.24 m beyond the shoulders."""
-HANDRAIL_HEIGHT = 0.80
-"""(B): the rail's centre line 0.80 m above the stairs' pitch line (the line through the
-steps' nosings), a 0.9 m human handrail scaled to our 1.60 m robot; the palms are at
-0.79 m in the standing posture."""
+HANDRAIL_Y = 0.38
+"""(B): rail centre lines 0.38 m either side of the stairs' centre line, 0.03 m outside the
+stairs' edges, 0.17 m beyond the shoulders (0.45 m, the first choice, left a palm 0.50 m from
+its shoulder on the rail beside the robot: beyond the arm's 0.48 m)."""
+HANDRAIL_HEIGHT = 0.95
+"""(B): the rail's centre line 0.95 m above the stairs' pitch line (the line through the
+steps' nosings): 1.025 m above a foot on a tread's centre, 0.235 m below the shoulders (which
+the constant CoM height keeps 1.26 m above the feet), so a palm 0.25 m ahead of or behind the
+shoulder reaches it with the elbow bent (0.80 m, the first choice, a 0.9 m human handrail
+scaled, put it 0.39 m below the shoulders: 0.58 m away for such a palm, out of reach)."""
 HANDRAIL_HALF_SECTION = 0.02
 """(B): the rails are 0.04 m x 0.04 m bars (boxes: the scene has no cylinders)."""
 HANDRAIL_RUNOUT = 0.40
@@ -207,8 +210,8 @@ def handrail_stairs(robot: RobotDescription) -> Scene:
 
     Steps (ours but the rise): solid blocks `step_1` ... `step_4` from the ground, step k's
     tread at k x 0.150 m, treads 0.30 m deep starting at x = 0.30 m, the fourth a 0.60 m
-    landing, 0.70 m wide. Handrails (ours): 0.04 m square bars with centre lines at y = +-0.45 m
-    and 0.80 m above the pitch line (the line through the nosings, slope 0.150 / 0.30, 26.6
+    landing, 0.70 m wide. Handrails (ours): 0.04 m square bars with centre lines at y = +-0.38 m
+    and 0.95 m above the pitch line (the line through the nosings, slope 0.150 / 0.30, 26.6
     deg, which meets the ground at the robot's start, x = 0), each rail in three pieces:
     `rail_<side>_bottom` horizontal over the 0.40 m before the slope, `rail_<side>_slope`
     along the stairs up to the last nosing, `rail_<side>_top` horizontal for 0.40 m beyond it.

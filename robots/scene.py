@@ -210,11 +210,15 @@ class Scene:
 @dataclass(frozen=True)
 class Contact:
     """A limb in contact: its contact frame's pose in the world, position [m] and orientation
-    (w, x, y, z)."""
+    (w, x, y, z). `grasp`: the limb holds (a hand around a rail or rung), so it can pull as
+    well as push: its wrench cone has the opposing pyramids too (Murooka Sec. III-B1, "friction
+    pyramids facing each other", `centroidal.contacts`), and the scene holds it with a `Grasp`
+    over the same time."""
 
     limb: str
     position_world: tuple[float, float, float]
     orientation_world: tuple[float, float, float, float] = (1.0, 0.0, 0.0, 0.0)
+    grasp: bool = False
 
 
 @dataclass(frozen=True)

@@ -102,6 +102,10 @@ class Limb:
     contact_frame: str
     sensor_frame: str
     half_extents: tuple[float, float]
+    touch_links: tuple[str, ...] = ()
+    """Other links of the limb that may touch the scene without the robot counting as fallen
+    (a hand's arm beside the rail it holds, `sims.base`); their contacts are not
+    in the limb's wrench, as a wrist force/torque sensor would not measure them."""
 
 
 @dataclass(frozen=True)

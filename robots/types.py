@@ -235,6 +235,8 @@ class CentroidalPlan:
     planners that solve the whole body's dynamics (Sherikov et al.); None: not given."""
     solver_iterations: int | None = None
     """Active-set iterations of the planner's solver this period (None: no such solver)."""
+    grasp_limbs: tuple[str, ...] = ()
+    """Those of `contact_limbs` that grasp (can pull: `robots.scene.Contact.grasp`)."""
     contact_wrench_limb: np.ndarray | None = None
     """(n_limbs, 6) contact wrenches such a planner decided: force [N] and moment [N m] of the
     environment on each limb, in its contact frame about its origin (zero off contact)."""

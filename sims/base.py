@@ -250,7 +250,9 @@ class SimulatorBase(abc.ABC):
         self._fall_reason = None
         self._torque_limit = robot.array("torque_limit")
         self._last_torque = np.zeros(robot.n_joints)
-        self._limb_links = frozenset(limb.link for limb in robot.limbs)
+        self._limb_links = frozenset(
+            link for limb in robot.limbs for link in (limb.link, *limb.touch_links)
+        )
         self._substeps = scene.substeps
         self._moving_boxes = bool(scene.moving_boxes)
         self._grasps = {}

@@ -42,7 +42,7 @@ from centroidal.rotations import (
     to_matrix,
 )
 from centroidal.wrench import zmp_on_plane
-from robots.limbs import limb_surfaces
+from robots.limbs import grasp_surfaces, limb_surfaces
 from robots.model import RobotModel
 from robots.registry import MULTI_CONTACT
 from robots.scene import Scenario
@@ -151,6 +151,7 @@ class CentroidalFeedbackStabilizer:
         self.limb_names = description.limb_names
         friction = scenario.scene.friction
         self.surfaces = limb_surfaces(description, friction)
+        self.grasping = grasp_surfaces(self.surfaces)
         # Delta r^c of every limb end (eq. 15): linear [m] and rotation vector [rad], world axes.
         self.compliance_linear = np.zeros((len(self.limbs), 3))
         self.compliance_angular = np.zeros((len(self.limbs), 3))
@@ -167,13 +168,23 @@ class CentroidalFeedbackStabilizer:
                 [k for k, name in enumerate(self.limb_names) if name in plan.contact_limbs],
                 dtype=int,
             )
-        key = (plan.contact_limbs, positions[index].tobytes(), orientations[index].tobytes())
+        key = (
+            plan.contact_limbs,
+            plan.grasp_limbs,
+            positions[index].tobytes(),
+            orientations[index].tobytes(),
+        )
         if self._cache_key == key:
             return self._cache
         rotations = to_matrices(orientations[index]) if len(index) else np.zeros((0, 3, 3))
         contacts = contact_set(
             [self.limb_names[k] for k in index],
-            [self.surfaces[self.limb_names[k]] for k in index],
+            [
+                (self.grasping if self.limb_names[k] in plan.grasp_limbs else self.surfaces)[
+                    self.limb_names[k]
+                ]
+                for k in index
+            ],
             [positions[k] for k in index],
             list(rotations),
         )

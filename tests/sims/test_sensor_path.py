@@ -222,3 +222,43 @@ def test_sensor_layout_views_cover_the_buffer_once():
     np.testing.assert_array_equal(np.concatenate(parts), buffer)  # in order, each entry once
     assert sensors.contact_wrench_limb.shape == (3, 6)
     assert all(np.shares_memory(p, buffer) for p in parts)
+
+
+@pytest.mark.parametrize("sim_name", ["mujoco", "pybullet"])
+def test_an_arm_against_a_rail_is_not_a_fall_but_the_torso_is(robot, model, sim_name):
+    """A hand's arm links (`Limb.touch_links`: upper arm, forearm, wrist) may touch the scene
+    (a forearm beside the rail the hand holds) without the robot counting as fallen; the
+    torso may not. A box is placed 5 mm into the standing robot's left forearm, then into its
+    torso."""
+    import pinocchio as pin
+
+    from robots.scene import Box
+
+    initial = model.standing_state()
+    data = model.model.createData()
+    pin.forwardKinematics(model.model, data, model.configuration(initial))
+    joints = [
+        data.oMi[model.model.getJointId(f"left_{j}")].translation for j in ("elbow", "wrist_pitch")
+    ]
+    forearm_middle = (joints[0] + joints[1]) / 2
+    outside = forearm_middle[1] + 0.04 + 0.05 - 0.005  # capsule radius 0.04, box half 0.05
+    results = {}
+    for name, centre in (
+        ("forearm", (forearm_middle[0], outside, forearm_middle[2])),
+        ("torso", (0.0, 0.0, 1.05)),
+    ):
+        box = Box(f"against_{name}", tuple(float(v) for v in centre), (0.05, 0.05, 0.05))
+        sim = make_simulator(sim_name)
+        try:
+            sim.reset(robot, Scene(boxes=(box,)), initial)
+            touched = False
+            for _ in range(25):
+                sim.step(model.hold_command(initial))
+                touched |= bool(sim._links_touching_scene() - {"left_foot", "right_foot"})
+            results[name] = (touched, sim.fall_reason())
+        finally:
+            sim.close()
+    assert results["forearm"][0], "the box should touch the forearm"
+    assert results["forearm"][1] is None, results["forearm"][1]
+    assert results["torso"][1] is not None
+    assert "torso touching the scene" in results["torso"][1]
