@@ -587,7 +587,7 @@ def _validate_names(args: argparse.Namespace) -> None:
 
 
 def _compare(args: argparse.Namespace) -> int:
-    from bench.compare import compare, horizon_timing
+    from bench.compare import compare, horizon_timing, paper_rows
     from bench.scenarios import SCENARIOS
     from centroidal.mpc_formulations import FORMULATIONS
     from planners.base import planner_spec
@@ -627,6 +627,10 @@ def _compare(args: argparse.Namespace) -> int:
     table = compare(args.planners, args.scenario, args.sims, args.stabilizer, progress=progress)
     with _pd_options():
         print(table.drop(columns=["error"]).to_string(index=False, float_format="%.4g"))
+        paper = paper_rows(args.scenario, args.planners)
+        if paper is not None:
+            print("\nMurooka et al. 2022, Sec. V-G (HRP-5P, Choreonoid): mean projection errors")
+            print(paper.to_string(index=False, float_format="%.4g"))
     failed = table[table["status"] != "ok"]
     for _, row in failed.iterrows():
         print(f"{row['planner']} on {row['sim']}: {row['status']}: {row['error']}")

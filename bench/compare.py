@@ -32,6 +32,7 @@ COMPARISON_COLUMNS = (
     "feedback_force_N",
     "feedback_moment_Nm",
     "com_error_rms_mm",
+    "com_acceleration_mps2",
     "update_median_us",
     "update_p99_us",
     "horizon_samples",
@@ -62,10 +63,61 @@ def _row(spec: EpisodeSpec) -> dict:
         "error": summary["error"] or summary["fall_reason"],
     }
     row.update({k: v for k, v in feedback_magnitude(trace).items() if v is not None})
+    if len(trace) and summary["mass_kg"]:  # Sec. V-G's "scale of CoM acceleration"
+        force = trace[["wrench_projected_fx", "wrench_projected_fy", "wrench_projected_fz"]]
+        row["com_acceleration_mps2"] = float(
+            np.linalg.norm(force.to_numpy(), axis=1).mean() / summary["mass_kg"]
+        )
     update = summary["latency_us"].get("planner", {})
     row["update_median_us"] = update.get("median")
     row["update_p99_us"] = update.get("p99")
     return row
+
+
+PAPER_SEC_V_G: dict[tuple[str, str], dict[str, float]] = {
+    ("handrail_stairs", "preview_control"): {
+        "planned_force_N": 2.2,
+        "planned_moment_Nm": 4.4,
+        "desired_force_N": 3.7,
+        "desired_moment_Nm": 4.7,
+    },
+    ("handrail_stairs", "linear_mpc"): {
+        "planned_force_N": 0.0,
+        "planned_moment_Nm": 0.0,
+        "desired_force_N": 0.42,
+        "desired_moment_Nm": 0.52,
+    },
+    ("ladder", "preview_control"): {
+        "planned_force_N": 0.0,
+        "planned_moment_Nm": 0.0,
+        "desired_force_N": 9.0,
+        "desired_moment_Nm": 8.7,
+    },
+    ("ladder", "linear_mpc"): {
+        "planned_force_N": 0.0,
+        "planned_moment_Nm": 0.0,
+        "desired_force_N": 9.3,
+        "desired_moment_Nm": 9.1,
+    },
+}
+"""Murooka et al. 2022, Sec. V-G (HRP-5P in Choreonoid): the mean projection errors of the
+planned resultant wrench (||w-bar^p - w-bar^p'||) and of the desired one, for climbing the
+handrail stairs (Fig. 4 B) and the ladder (C), with the proposed preview control and with the
+linear MPC of its ref. [5]; "no significant differences were found in the scale of feedback
+wrench (11), CoM acceleration, and angular momentum" (no numbers printed)."""
+
+
+def paper_rows(scenario: str, planners: Sequence[str]) -> pd.DataFrame | None:
+    """`PAPER_SEC_V_G`'s rows for `scenario` and `planners` (those the paper has), as a table
+    with the comparison's error columns; None if the paper has none for the scenario."""
+    rows = [
+        {"planner": planner, "sim": "paper (Choreonoid)", **PAPER_SEC_V_G[(scenario, planner)]}
+        for planner in planners
+        if (scenario, planner) in PAPER_SEC_V_G
+    ]
+    if not rows:
+        return None
+    return pd.DataFrame(rows, columns=["planner", "sim", *COMPARISON_COLUMNS[3:7]])
 
 
 def compare(

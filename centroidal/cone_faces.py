@@ -24,9 +24,10 @@ _SAME_FACE = 1e-7  # unit normals closer than this are one facet
 
 def cone_faces(generators: np.ndarray) -> np.ndarray:
     """F (m, d) with unit rows such that {w : F w <= 0} = {G lambda : lambda >= 0}, for the
-    generators G (d, n) of a full-dimensional cone other than the whole space (d = 6 for
-    contact wrenches: force [N] and moment [N m], so the rows mix units; only their signs
-    matter). ValueError if the cone is not full-dimensional or is the whole space."""
+    generators G (d, n) of a full-dimensional cone (d = 6 for contact wrenches: force [N] and
+    moment [N m], so the rows mix units; only their signs matter). A cone that is the whole
+    space (a grasp's facing pyramids, Murooka Sec. III-B1: it holds any wrench) has no faces:
+    F is (0, d). ValueError if the cone is not full-dimensional."""
     g = np.asarray(generators, dtype=float)
     if g.ndim != 2 or g.shape[1] == 0:
         raise ValueError(f"cone_faces needs a (d, n) generator matrix with n >= 1, got {g.shape}")
@@ -53,8 +54,8 @@ def _faces_of_exact(shape: tuple[int, int], data: bytes) -> np.ndarray:
         raise ValueError(f"Qhull could not enumerate the cone's faces: {exc}") from exc
     normals, offsets = hull.equations[:, :dimension], hull.equations[:, dimension]
     through_origin = np.abs(offsets) < _THROUGH_ORIGIN
-    if not np.any(through_origin):
-        raise ValueError("the generators span the whole space: the cone has no faces")
+    if not np.any(through_origin):  # the origin is interior: the cone is the whole space
+        return np.zeros((0, dimension))
     faces = normals[through_origin]
     faces = faces / np.linalg.norm(faces, axis=1, keepdims=True)
     # merge Qhull's coplanar triangles: a face is kept unless one kept before it is within

@@ -439,6 +439,8 @@ class FaceForm:
         rows /= np.sqrt(np.einsum("ij,ij->i", rows, rows))[:, None]
         negated = self._negated_constraint(sizes, rows)  # -(F T^-1), block-diagonal (m, 6N)
         gradient = input_gradient(self.model, problem)
+        if not len(rows):  # every sample's cone is the whole space (grasps): unconstrained
+            return np.linalg.solve(self.hessian, -gradient).reshape(n, 6)
         if self.solver == "quadprog":  # min 1/2 U'HU - a'U  s.t.  C'U >= -slack
             try:
                 solution = quadprog.solve_qp(

@@ -70,3 +70,20 @@ def test_bad_compare_requests_fail_with_one_line(argv, message, capsys):
     err = capsys.readouterr().err
     assert message in err
     assert len(err.strip().splitlines()) == 1
+
+
+def test_standing_still_plans_no_com_acceleration(table):
+    """Sec. V-G's "scale of CoM acceleration" (the planned resultant force over m): standing
+    still, about none."""
+    assert table.iloc[1]["com_acceleration_mps2"] < 0.05
+
+
+def test_the_papers_sec_v_g_rows_come_with_stairs_and_ladder_only():
+    from bench.compare import paper_rows
+
+    stairs = paper_rows("handrail_stairs", ["preview_control", "linear_mpc", "hold"])
+    assert stairs["planner"].tolist() == ["preview_control", "linear_mpc"]
+    # the paper: the MPC's planned wrench needs no projection, preview control's does on (B)
+    assert stairs.iloc[1][["planned_force_N", "planned_moment_Nm"]].tolist() == [0.0, 0.0]
+    assert stairs.iloc[0]["planned_force_N"] > 0
+    assert paper_rows("walk", ["preview_control"]) is None

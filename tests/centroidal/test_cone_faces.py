@@ -91,3 +91,17 @@ def test_kept_faces_are_the_callers_own_copy():
     first[:] = 0.0
     np.testing.assert_array_equal(cone_faces(g.copy()), expected)
     assert not np.array_equal(expected, 0.0)
+
+
+def test_a_grasps_cone_is_the_whole_space_and_has_no_faces():
+    """A grasp (Murooka Sec. III-B1: the friction pyramids facing each other at every vertex
+    of the hand's rectangle) holds any wrench: its cone is the whole space, whose face form
+    has no rows; every wrench is a non-negative combination of its ridges (checked by NNLS)."""
+    grasp = ContactSurface.rectangle(0.05, 0.04, 0.6, grasp=True)
+    generators = generator_matrix(grasp, np.array([0.3, 0.4, 1.1]), np.eye(3))
+    faces = cone_faces(generators)
+    assert faces.shape == (0, 6)
+    rng = np.random.default_rng(3)
+    for wrench in rng.normal(size=(20, 6)) * [100, 100, 100, 10, 10, 10]:
+        _, residual = nnls(generators, wrench)
+        assert residual < 1e-6 * np.linalg.norm(wrench)

@@ -214,3 +214,37 @@ def test_face_quadprog_does_not_cycle_at_friction_001():
     assert status in ("ok", "fell")  # the physics decides; a solver hang or error does not
     assert float(duration) > 0.05  # well past the period where it cycled
     assert int(failures) == 0
+
+
+def test_face_form_with_grasps_everywhere_is_the_unconstrained_optimum():
+    """With a grasp in every sample (its cone the whole space: no faces), the face form's QP
+    has no constraint row and its solution is the unconstrained optimum, which the ridge form
+    (a QP in the ridge forces, lambda >= 0, through qpsolvers) reaches too."""
+    from dataclasses import replace
+
+    from bench.scenarios import make_scenario
+    from planners.linear_mpc import LinearMpcPlanner
+    from robots.humanoid import humanoid
+    from robots.model import RobotModel
+    from robots.scene import Contact, ContactPhase
+
+    model = RobotModel(humanoid())
+    stand = make_scenario("stand", model)
+    hand = Contact("left_hand", (0.3, 0.38, 1.1), grasp=True)
+    phases = tuple(ContactPhase(p.start, p.end, (*p.contacts, hand)) for p in stand.phases)
+    scenario = replace(stand, phases=phases)
+    state = model.standing_state()
+    state = replace(
+        state,
+        com_position_world=np.add(model.com_position_world(state), (0.03, 0.0, 0.0)),
+        com_velocity_world=np.zeros(3),
+    )
+    plans = []
+    for formulation in ("face:quadprog", "dense:daqp"):
+        planner = LinearMpcPlanner(0.002, formulation=formulation)
+        planner.reset(model, scenario, state)
+        plans.append(planner.plan(0.0, state))
+        assert plans[-1].grasp_limbs == ("left_hand",)
+    np.testing.assert_allclose(
+        plans[0].wrench_projected_world, plans[1].wrench_projected_world, atol=1e-3
+    )
