@@ -24,16 +24,20 @@ from scipy.spatial.transform import Rotation
 
 from robots.model import RobotModel
 from robots.multi_contact_scenes import (
+    BOARD_RUN,
+    BOARD_TOP_LENGTH,
     HANDRAIL_HALF_SECTION,
     HANDRAIL_HEIGHT,
     HANDRAIL_RUNOUT,
     HANDRAIL_Y,
     MOTION_PERIOD_S,
+    PAPER_BOARD_INCLINE_RAD,
     PAPER_STEP_COUNT,
     PAPER_STEP_RISE_M,
     STEP_RUN,
     WALKWAY_START_X,
     WALL_INNER_FACE_Y,
+    hand_wall,
     handrail_stairs,
     moving_contacts,
 )
@@ -198,10 +202,47 @@ class ContactSequence:
                     raise ValueError(f"{target.limb!r} grasps: name its box in `boxes`")
                 self._holding[target.limb] = (boxes[target.limb], self.time)
 
+    def free(
+        self,
+        limb: str,
+        pose: tuple[np.ndarray, np.ndarray],
+        duration: float,
+        com_offset: tuple[float, float] = (0.0, 0.0),
+    ) -> None:
+        """`limb` leaves its contact and moves to `pose` (position [m], orientation (w, x, y,
+        z)) over `duration` [s], where it is let go (a `LimbWaypoint` with `release`: the
+        whole-body layer's posture task takes it from there)."""
+        if limb in self._holding:
+            box, since = self._holding.pop(limb)
+            self.grasps.append(Grasp(limb, box, since, self.time))
+        if limb not in self.contacts:
+            raise ValueError(f"{limb!r} is in no contact to leave")
+        del self.contacts[limb]
+        position, orientation = pose
+        self.waypoints.append(
+            LimbWaypoint(
+                limb,
+                self.time + duration,
+                tuple(float(v) for v in position),
+                tuple(float(v) for v in orientation),
+                release=True,
+            )
+        )
+        self._phase(duration, com_offset)
+
     def all_grasps(self) -> tuple[Grasp, ...]:
         """The grasps made so far, those still held lasting to the end (`Grasp.end` inf)."""
         held = [Grasp(limb, box, since) for limb, (box, since) in self._holding.items()]
         return tuple(sorted([*self.grasps, *held], key=lambda g: (g.start, g.limb)))
+
+
+def _begin(model: RobotModel):
+    """A motion's start: the robot's scale, its time scale sqrt(scale) (Froude), the limbs'
+    standing poses, the feet's contacts there (by limb) and a sequence standing on them."""
+    poses = _limb_poses(model)
+    feet = {c.limb: c for c in _standing_feet(poses)}
+    scale = model.robot.scale
+    return scale, math.sqrt(scale), poses, feet, ContactSequence(tuple(feet.values()))
 
 
 def _limb_poses(model: RobotModel) -> dict[str, tuple[np.ndarray, np.ndarray]]:
@@ -361,10 +402,7 @@ def handrail_stairs_motion(model: RobotModel, duration: float | None = None) -> 
     mean; grasps as `Contact.grasp` (the paper's facing pyramids) held by the scene's `Grasp`s.
     Table II's hand K_d is the table's (the paper gives other values only for (A) and (C))."""
     robot = model.robot
-    s, time_scale = robot.scale, math.sqrt(robot.scale)
-    poses = _limb_poses(model)
-    feet = {c.limb: c for c in _standing_feet(poses)}
-    sequence = ContactSequence(tuple(feet.values()))
+    s, time_scale, poses, feet, sequence = _begin(model)
     sequence.hold(STAIRS_STAND_S * time_scale)
     hand_x = STAIRS_HAND_START * s
     for side in ("left", "right"):
@@ -413,3 +451,106 @@ def handrail_stairs_motion(model: RobotModel, duration: float | None = None) -> 
     scene = handrail_stairs(robot)
     # every swing is lifted (`STAIRS_LIFT`): no clearance bump on top of it
     return _scenario("handrail_stairs", scene, sequence, model, duration, swing_height=0.0)
+
+
+WALL_WALK_FOOTHOLDS = (0.18, 0.42, 0.56, 0.70, 0.80, 1.05, 1.15, 1.42, 1.56, 1.70, 2.05)
+"""[m] at scale 1: the x of the soles' centres at each foothold of `hand_wall`, both feet
+side by side (each foot steps there in turn, right first): on the ground before the boards,
+four times up the ascending board, twice on the flat top board, three times down the
+descending one, and on the ground after, every sole at least 0.10 m (along the board) from a
+board's end so that it lies on one plane; 0.10-0.14 m apart on a board (with 0.30 m the
+trailing leg straightened and its foot left the ground). Ours; the paper gives no footholds."""
+WALL_WALK_COM_HEIGHT = 0.78
+"""[m] at scale 1: the CoM reference's constant offset above the feet (Sec. V-C; 0.826 m, the
+standing height, is the default): 5 cm lower, so that the legs keep some bend with one foot
+on the slope above the other."""
+WALL_WALK_SWING_S = 1.0
+WALL_WALK_DOUBLE_S = 0.6
+WALL_WALK_HAND_S = 1.5
+"""[s] at scale 1 of `hand_wall`: each foot's swing, each double support, each hand's move."""
+WALL_WALK_HAND_AHEAD = 0.10
+"""[m] at scale 1: a palm is placed on the wall 0.10 m ahead of the feet's foothold, at
+`WALL_PALM_HEIGHT` above it."""
+WALL_WALK_SWITCH = 5
+"""The foothold (from 0) at which the right hand takes the right wall and the left lets go
+(Fig. 5: "contact forces of the left hand (1-6 s) and right hand (6-10 s)")."""
+PAPER_WALL_HAND_KD = 1000.0
+"""Table II's note: the hands' linear K_d in contact "1000 for walking with hands on the wall"."""
+WALL_WALK_LIFT = 0.05
+"""[m] at scale 1: a foot's swing rises to this above the higher of its two footholds."""
+
+
+def _walkway(scale: float, x: float) -> tuple[float, Quaternion]:
+    """The height [m] of `hand_wall`'s walking surface at x [m] and a sole's orientation there
+    (pitched with the board: its x axis along the slope, z along the board's normal)."""
+    s = scale
+    x0, run, top = WALKWAY_START_X * s, BOARD_RUN * s, BOARD_TOP_LENGTH * s
+    slope = math.tan(PAPER_BOARD_INCLINE_RAD)
+    rise = run * slope
+    half = 0.5 * PAPER_BOARD_INCLINE_RAD
+    up = (math.cos(-half), 0.0, math.sin(-half), 0.0)  # toes up: -25 deg about y
+    down = (math.cos(half), 0.0, math.sin(half), 0.0)
+    if x <= x0 or x >= x0 + 2 * run + top:
+        return 0.0, (1.0, 0.0, 0.0, 0.0)
+    if x < x0 + run:
+        return (x - x0) * slope, up
+    if x <= x0 + run + top:
+        return rise, (1.0, 0.0, 0.0, 0.0)
+    return rise - (x - x0 - run - top) * slope, down
+
+
+def hand_wall_motion(model: RobotModel, duration: float | None = None) -> Scenario:
+    """Fig. 4 (A): "stepping on scaffold boards with 25 degree incline while keeping the hand
+    on a vertical wall" (`robots.multi_contact_scenes.hand_wall`). The left palm reaches the
+    left wall, then the feet step foothold by foothold (`WALL_WALK_FOOTHOLDS`, both feet on
+    each in turn, right first, soles pitched with the boards, every swing lifted over the
+    higher foothold) and after every other foothold the palm on the wall moves along it; at
+    `WALL_WALK_SWITCH` the right palm takes the right wall and the left hand lets go (Fig. 5's
+    switch of hands), the right palm moving along from then on. CoM reference by Sec. V-C's
+    walking rule (the supporting feet's centre, constant height above their mean); the
+    hands' damping K_d of Table II's note for this motion (`PAPER_WALL_HAND_KD`)."""
+    robot = model.robot
+    s, time_scale, poses, feet, sequence = _begin(model)
+    sequence.hold(WALL_WALK_DOUBLE_S * time_scale)
+    left, right = _wall_palms(s)
+
+    def palm(contact: Contact, x: float, z: float) -> Contact:
+        _, y, _ = contact.position_world
+        ahead = x + WALL_WALK_HAND_AHEAD * s
+        return Contact(
+            contact.limb, (ahead, y, z + WALL_PALM_HEIGHT * s), contact.orientation_world
+        )
+
+    sequence.move((palm(left, 0.0, 0.0),), WALL_WALK_HAND_S * time_scale, poses)
+    sequence.hold(WALL_WALK_DOUBLE_S * time_scale)
+    hand = left
+    for k, x_scaled in enumerate(WALL_WALK_FOOTHOLDS):
+        x = x_scaled * s
+        z, orientation = _walkway(s, x)
+        for foot in ("right_foot", "left_foot"):
+            y = feet[foot].position_world[1]
+            target = Contact(foot, (x, y, z), orientation)
+            sequence.move((target,), WALL_WALK_SWING_S * time_scale, lift=WALL_WALK_LIFT * s)
+            feet[foot] = target
+            sequence.hold(WALL_WALK_DOUBLE_S * time_scale)
+        if k == WALL_WALK_SWITCH:
+            sequence.move((palm(right, x, z),), WALL_WALK_HAND_S * time_scale, poses)
+            sequence.hold(WALL_WALK_DOUBLE_S * time_scale)
+            hanging, orientation_hanging = poses["left_hand"]
+            let_go = (hanging + np.array([x, 0.0, z]), orientation_hanging)
+            sequence.free("left_hand", let_go, WALL_WALK_HAND_S * time_scale)
+            sequence.hold(WALL_WALK_DOUBLE_S * time_scale)
+            hand = right
+        elif k % 2 == 0 and k < len(WALL_WALK_FOOTHOLDS) - 1:  # every other foothold
+            sequence.move((palm(hand, x, z),), WALL_WALK_HAND_S * time_scale)
+            sequence.hold(WALL_WALK_DOUBLE_S * time_scale)
+    sequence.hold(WALL_WALK_DOUBLE_S * time_scale)
+    return _scenario(
+        "hand_wall",
+        hand_wall(robot),
+        sequence,
+        model,
+        duration,
+        hand_contact_kd_linear=PAPER_WALL_HAND_KD,
+        com_height_offset=WALL_WALK_COM_HEIGHT * s,
+    )

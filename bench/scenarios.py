@@ -36,7 +36,7 @@ from dataclasses import dataclass, replace
 import numpy as np
 
 from bench.limits import MAX_WALK_STEPS
-from bench.motions import handrail_stairs_motion, moving_contacts_motion
+from bench.motions import hand_wall_motion, handrail_stairs_motion, moving_contacts_motion
 from centroidal.rotations import heading_quaternion
 from robots.gait import GAIT_STEPS, GaitCommand
 from robots.model import RobotModel
@@ -336,6 +336,12 @@ SCENARIOS: dict[str, ScenarioSpec] = {
         "moving_contacts",
         moving_contacts_motion,
         "Murooka 2022 Fig. 4 (E): hands on two walls, balancing on moving floors and walls",
+        requires=MULTI_CONTACT,
+    ),
+    "hand_wall": ScenarioSpec(
+        "hand_wall",
+        hand_wall_motion,
+        "Murooka 2022 Fig. 4 (A): stepping over 25 deg scaffold boards, a hand on the wall",
         requires=MULTI_CONTACT,
     ),
     "handrail_stairs": ScenarioSpec(

@@ -35,7 +35,7 @@ from centroidal.projection import DEFAULT_BACKEND, WrenchProjector, project_resu
 from centroidal.rotations import exp, from_matrix, log, to_matrix
 from centroidal.wrench import cross, zmp_on_plane
 from planners.base import PlannerSpec, register
-from planners.reference import com_reference, support_centre, yaw_reference
+from planners.reference import com_reference, height_offset, yaw_reference
 from robots.limbs import (
     FootstepSchedule,
     PhaseContacts,
@@ -97,10 +97,11 @@ class LinearMpcPlanner:
                 np.zeros(3),
             ]
         )
-        _, support_height = support_centre(scenario, 0.0)
         span = scenario.duration + (self.horizon + 2) * self.dtau
         n_reference = int(np.ceil(span / REFERENCE_DT)) + 2
-        self.reference = com_reference(scenario, REFERENCE_DT, n_reference, com[2] - support_height)
+        self.reference = com_reference(
+            scenario, REFERENCE_DT, n_reference, height_offset(scenario, float(com[2]))
+        )
         self.yaw_reference = yaw_reference(scenario, REFERENCE_DT, n_reference)
         self.start_pose = {}
         for limb in self.limbs:

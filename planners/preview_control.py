@@ -38,7 +38,7 @@ from centroidal.projection import DEFAULT_BACKEND, WrenchProjector, project_resu
 from centroidal.rotations import exp, from_matrix, log, to_matrix
 from centroidal.wrench import zmp_on_plane
 from planners.base import PlannerSpec, register
-from planners.reference import com_reference, support_centre, yaw_reference
+from planners.reference import com_reference, height_offset, yaw_reference
 from robots.limbs import (
     FootstepSchedule,
     PhaseContacts,
@@ -106,9 +106,10 @@ class PreviewControlPlanner:
         self.preview.state[:3, 0] = com
         self.preview.state[:3, 1] = state.com_velocity_world
         self.preview.state[3:, 0] = log(to_matrix(state.base_orientation_world))
-        _, support_height = support_centre(scenario, 0.0)
         n_samples = int(np.ceil(scenario.duration / self.dtau)) + self.horizon + 2
-        self.reference = com_reference(scenario, self.dtau, n_samples, com[2] - support_height)
+        self.reference = com_reference(
+            scenario, self.dtau, n_samples, height_offset(scenario, float(com[2]))
+        )
         yaws = yaw_reference(scenario, self.dtau, n_samples)
         if yaws is not None:  # a turning walk: the base yaw reference too (angular row z)
             self.reference = np.column_stack([self.reference, np.zeros((n_samples, 2)), yaws])

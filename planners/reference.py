@@ -47,6 +47,15 @@ def support_centre(scenario: Scenario, time: float) -> tuple[np.ndarray, float]:
     return centre, float(points[:, 2].mean())
 
 
+def height_offset(scenario: Scenario, com_height_world: float) -> float:
+    """The CoM reference's constant offset [m] above the mean foot height (Sec. V-C): the
+    scenario's `com_height_offset`, else the initial CoM's height above the first support."""
+    if scenario.com_height_offset is not None:
+        return scenario.com_height_offset
+    _, support_height = support_centre(scenario, 0.0)
+    return com_height_world - support_height
+
+
 def com_reference(
     scenario: Scenario, dtau: float, n_samples: int, height_offset: float
 ) -> np.ndarray:

@@ -249,6 +249,10 @@ class LimbWaypoint:
     time: float
     position_world: tuple[float, float, float]
     orientation_world: tuple[float, float, float, float] = (1.0, 0.0, 0.0, 0.0)
+    release: bool = False
+    """The limb is let go here: with no contact or waypoint after this one it has no target
+    from `time` on (the whole-body layer's posture task takes it back), instead of holding
+    this pose for ever."""
 
 
 @dataclass(frozen=True)
@@ -306,6 +310,9 @@ class Scenario:
     ladder); None: the table's 10000."""
     ladder_gains: bool = False
     """Murooka Table III's note: the centroidal feedback gains for climbing the ladder."""
+    com_height_offset: float | None = None
+    """[m] the constant offset of the CoM reference above the feet's mean height (Murooka Sec.
+    V-C); None: the CoM's height above the soles at the start (`planners.reference`)."""
 
     @functools.cached_property
     def _hand_timeline(self) -> dict[str, tuple[list[float], list[np.ndarray]]]:
@@ -332,6 +339,11 @@ class Scenario:
         times, positions = timeline
         i = bisect.bisect_right(times, time) - 1
         return positions[i].copy() if i >= 0 else None
+
+    @functools.cached_property
+    def _releases(self) -> frozenset[tuple[str, float]]:
+        """(limb, time) of the waypoints that let their limb go (`LimbWaypoint.release`)."""
+        return frozenset((w.limb, w.time) for w in self.limb_waypoints if w.release)
 
     @functools.cached_property
     def _timeline(self) -> tuple[list[float], dict[str, tuple[list[float], list]]] | None:
@@ -414,6 +426,8 @@ class Scenario:
         sole chatter on MuJoCo's contact for 0.15 s); None if the limb is never in contact
         around `time`. Returns (position [m], orientation (w, x, y, z))."""
         previous, following = self._neighbours(limb, time)
+        if following is None and previous is not None and (limb, previous[0]) in self._releases:
+            return None
         if previous is following is not None:  # in contact
             contact = previous[1]
             return (

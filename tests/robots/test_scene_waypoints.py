@@ -141,3 +141,23 @@ def test_a_delayed_moving_box_rests_then_moves_as_the_undelayed_one():
         np.testing.assert_array_equal(delayed.velocity_at(5.0 + t)[1], box.velocity_at(t)[1])
     with pytest.raises(ValueError, match="start_time"):
         replace(box, start_time=-1.0).validate()
+
+
+def test_a_released_limb_has_no_target_after_its_last_waypoint():
+    """`LimbWaypoint(release=True)`: the hand leaves the wall, swings to the waypoint and has
+    no target after it (the posture task takes it), instead of holding the pose for ever."""
+    scenario = _scenario(
+        [
+            ContactPhase(0.0, 1.0, (*FEET, PALM_A)),
+            ContactPhase(1.0, 3.0, FEET),
+        ],
+        (LimbWaypoint("left_hand", 2.0, *HANGING, release=True),),
+    )
+    assert scenario.limb_pose("left_hand", 0.5)[0].tolist() == list(PALM_A.position_world)
+    np.testing.assert_allclose(
+        scenario.limb_pose("left_hand", 2.0 - 1e-9)[0], HANGING[0], atol=1e-6
+    )
+    assert scenario.limb_pose("left_hand", 2.0) is None
+    assert scenario.limb_pose("left_hand", 2.9) is None
+    held = replace(scenario, limb_waypoints=(LimbWaypoint("left_hand", 2.0, *HANGING),))
+    np.testing.assert_allclose(held.limb_pose("left_hand", 2.9)[0], HANGING[0], atol=1e-15)
