@@ -345,12 +345,8 @@ def _walk_traces(episodes: pd.DataFrame, notes: list[str]) -> dict[str, pd.DataF
     for controller, group in walks.sort_values(["controller", "sim"]).groupby("controller"):
         row = group.iloc[0]
         path = _trace_dir(row) / f"{row['episode_id']}.parquet"
-        if not path.exists():
-            continue
-        try:
-            trace = pq.read_table(path).to_pandas()
-        except Exception as exc:  # a corrupt trace: no plot, still a report
-            notes.append(f"traces/{path.name}: unreadable, not plotted ({type(exc).__name__})")
+        trace = _read_trace(path, notes)
+        if trace is None:
             continue
         missing = [c for c in plots.WALK_COLUMNS if c not in trace.columns]
         if missing:
@@ -358,6 +354,18 @@ def _walk_traces(episodes: pd.DataFrame, notes: list[str]) -> dict[str, pd.DataF
             continue
         result[f"{controller} ({row['sim']}, {row['status']})"] = trace
     return result
+
+
+def _read_trace(path, notes: list[str]) -> pd.DataFrame | None:
+    """The trace stored at `path`; None if there is none, or (with a note in `notes`) if it
+    cannot be read: a corrupt trace means no plot, still a report."""
+    if not path.exists():
+        return None
+    try:
+        return pq.read_table(path).to_pandas()
+    except Exception as exc:
+        notes.append(f"traces/{path.name}: unreadable, not plotted ({type(exc).__name__})")
+        return None
 
 
 def _reach_traces(
@@ -373,12 +381,8 @@ def _reach_traces(
     for _, row in rows.sort_values(["controller", "sim", "scenario", "episode_id"]).iterrows():
         episode_id = row["episode_id"]
         path = _trace_dir(row) / f"{episode_id}.parquet"
-        if not path.exists():
-            continue
-        try:
-            trace = pq.read_table(path).to_pandas()
-        except Exception as exc:  # a corrupt trace: no plot, still a report
-            notes.append(f"traces/{path.name}: unreadable, not plotted ({type(exc).__name__})")
+        trace = _read_trace(path, notes)
+        if trace is None:
             continue
         if "time" not in trace.columns:
             notes.append(f"traces/{path.name}: no time column, not plotted")

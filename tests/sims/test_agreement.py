@@ -12,8 +12,6 @@ from dataclasses import dataclass
 import numpy as np
 import pytest
 
-from robots.humanoid import humanoid
-from robots.model import RobotModel
 from robots.scene import Box, Scene
 from robots.types import JointCommand, RobotState, Sensors
 from sims.base import make_simulator
@@ -31,16 +29,6 @@ class Trace:
     cop_world: np.ndarray  # (n, 2) centre of pressure of all foot contacts [m]
     fall_reason: str | None
     dt: float
-
-
-@pytest.fixture(scope="module")
-def robot():
-    return humanoid()
-
-
-@pytest.fixture(scope="module")
-def model(robot):
-    return RobotModel(robot)
 
 
 def simulate(robot, model, sim_name, scene, initial, duration, command=None, push=None) -> Trace:

@@ -23,8 +23,6 @@ pressed stance by subtracting the same episode without the load, period by perio
 import numpy as np
 import pytest
 
-from robots.humanoid import humanoid
-from robots.model import RobotModel
 from robots.scene import Box, Grasp, MovingBox, Scene
 from robots.types import JointCommand, RobotState
 from sims import mujoco_sim
@@ -42,16 +40,6 @@ LOAD = quaternion_to_matrix(TURNED) @ [40.0, -20.0, 100.0]  # [N] on the right f
 LOAD_START, LOAD_END = 0.6, 1.4  # [s]
 GRASP_START = 0.5  # [s], once the pad presses on the bar
 HAND = "right_hand"
-
-
-@pytest.fixture(scope="module")
-def robot():
-    return humanoid()
-
-
-@pytest.fixture(scope="module")
-def model(robot):
-    return RobotModel(robot)
 
 
 @pytest.fixture(scope="module")

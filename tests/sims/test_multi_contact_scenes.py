@@ -19,7 +19,6 @@ import numpy as np
 import pytest
 
 from robots.humanoid import humanoid
-from robots.model import RobotModel
 from robots.multi_contact_scenes import (
     HANDRAIL_HEIGHT,
     MULTI_CONTACT_SCENES,
@@ -42,16 +41,6 @@ from sims.base import make_simulator, quaternion_product, quaternion_to_matrix
 
 SIMS = ["mujoco", "pybullet"]
 SCALES = [1.0, 0.8]
-
-
-@pytest.fixture(scope="module")
-def robot():
-    return humanoid()
-
-
-@pytest.fixture(scope="module")
-def model(robot):
-    return RobotModel(robot)
 
 
 def quaternion_distance(a, b) -> float:

@@ -14,8 +14,6 @@ import dataclasses
 import numpy as np
 import pytest
 
-from robots.humanoid import humanoid
-from robots.model import RobotModel
 from robots.scene import Scene
 from robots.types import JointCommand
 from sims.base import limb_wrenches, make_simulator, quaternion_to_matrix, tilt_angle
@@ -24,16 +22,6 @@ from sims.sensor_buffer import SensorLayout
 
 WRENCH_ATOL = 1e-9  # [N], [N m]: rounding of sums of forces of up to ~600 N
 STATE_ATOL = 1e-12  # [m], [m/s], [rad/s]
-
-
-@pytest.fixture(scope="module")
-def robot():
-    return humanoid()
-
-
-@pytest.fixture(scope="module")
-def model(robot):
-    return RobotModel(robot)
 
 
 def rocking(model, initial, t: float) -> JointCommand:
