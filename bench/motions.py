@@ -12,6 +12,11 @@ lengths x scale and times x sqrt(scale) (Froude similarity, as the walks).
 - `moving_contacts` (Fig. 4 E): standing on the two moving floor plates, the hands reach the
   two moving walls one after the other, then the robot balances with four contacts while floors
   and walls move (their motion starts once the hands are on the walls).
+- `handrail_stairs` (Fig. 4 B): the hands grasp the rails, the feet climb the four steps one
+  tread at a time, the hands moving along the rails after each tread.
+- `hand_wall` (Fig. 4 A): stepping over the 25 deg scaffold boards with a palm on the wall,
+  switching from the left hand to the right at the top.
+(C) the ladder and (D) the hand supports are not built yet.
 """
 
 from __future__ import annotations
@@ -22,6 +27,7 @@ from dataclasses import replace
 import numpy as np
 from scipy.spatial.transform import Rotation
 
+from centroidal.rotations import from_matrix
 from robots.model import RobotModel
 from robots.multi_contact_scenes import (
     BOARD_RUN,
@@ -247,8 +253,6 @@ def _begin(model: RobotModel):
 
 def _limb_poses(model: RobotModel) -> dict[str, tuple[np.ndarray, np.ndarray]]:
     """Every limb's contact frame in the standing posture: position [m], (w, x, y, z)."""
-    from centroidal.rotations import from_matrix
-
     state = model.standing_state()
     poses = {}
     for limb in model.robot.limbs:
@@ -341,12 +345,12 @@ RAIL_PALM_EULER_DEG = (30.0, 20.0, 30.0)
 -90 deg about y (z axis, into the limb, -x: the hand's end face forward along the rail), then
 by these yaw, pitch, roll [deg] (world z, y, x: turned inward, tilted down, rolled in). Ours,
 from the arm's reach: a search over yaw, pitch, roll in 10 deg steps (and roll +-30) for the
-widest range of the palm's distance ahead of the shoulder, along the rail, over which the
-IK reaches the pose exactly (`bench.motions`' docstring): -0.05 to 0.40 m with these, 0.10 to
-0.40 m without them (the wrist roll or the elbow at a limit outside), against the 0.30 m the
-body advances per tread between two moves of a hand. Turned down onto the rail's top (z up)
-the elbow would have to rise above the shoulder; out onto its inner face (as a palm on a
-wall) the wrist pitch hits its 1.2 rad limit."""
+widest range of the palm's distance ahead of the shoulder, along the rail, over which the IK
+reaches the pose exactly (to 2 mm and 0.02 rad, the standing robot's left arm alone): -0.05
+to 0.40 m with these, 0.10 to 0.40 m without them (the wrist roll or the elbow at a limit
+outside), against the 0.30 m the body advances per tread between two moves of a hand.
+Turned down onto the rail's top (z up) the elbow would have to rise above the shoulder; out
+onto its inner face (as a palm on a wall) the wrist pitch hits its 1.2 rad limit."""
 
 
 def _rail_palm(side: str) -> Quaternion:
