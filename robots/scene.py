@@ -472,9 +472,12 @@ def contact_normal(orientation_world) -> tuple[float, float, float]:
     return (2.0 * (x * z + w * y), 2.0 * (y * z - w * x), 1.0 - 2.0 * (x * x + y * y))
 
 
+@functools.lru_cache(maxsize=1024)
 def _mean_normal(q0, q1) -> np.ndarray | None:
     """The unit mean of two contact frames' normals; None when both are the world z axis
-    (level contacts of any yaw: the clearance is then added to z alone, as it always was)."""
+    (level contacts of any yaw: the clearance is then added to z alone, as it always was).
+    Cached per pair of orientations (tuples): `limb_pose` asks every period of a swing; the
+    array returned is shared, and read only."""
     n0, n1 = contact_normal(q0), contact_normal(q1)
     if n0[0] == n0[1] == n1[0] == n1[1] == 0.0:
         return None

@@ -15,6 +15,7 @@ import pytest
 from robots.scene import Box, Scene
 from robots.types import JointCommand, RobotState, Sensors
 from sims.base import make_simulator
+from tests.sims.helpers import knees_bent
 
 SIMS = ["mujoco", "pybullet"]
 G = 9.81
@@ -260,13 +261,7 @@ def test_palm_contact_is_sensed(robot, model, sim_name):
     palm = model.frame_positions_world(initial, ["left_palm"])[0]
     top = palm[2] - 0.003
     scene = Scene(boxes=(Box("table", (palm[0], palm[1], top / 2), (0.06, 0.03, top / 2)),))
-    hold = model.hold_command(initial)
-    position = hold.position.copy()
-    for side in ("left", "right"):
-        position[robot.joint_names.index(f"{side}_knee")] += 0.033
-        position[robot.joint_names.index(f"{side}_hip_pitch")] -= 0.0165
-        position[robot.joint_names.index(f"{side}_ankle_pitch")] -= 0.0165
-    press = JointCommand(position, hold.velocity, hold.torque_feedforward, hold.kp, hold.kd)
+    press = knees_bent(robot, model.hold_command(initial))
     trace = simulate(robot, model, sim_name, scene, initial, 2.0, command=press)
     assert trace.fall_reason is None
     hand = robot.limb_names.index("left_hand")

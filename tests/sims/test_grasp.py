@@ -28,6 +28,7 @@ from robots.types import JointCommand, RobotState
 from sims import mujoco_sim
 from sims.base import make_simulator, quaternion_to_matrix
 from sims.pybullet_sim import pb
+from tests.sims.helpers import knees_bent
 
 SIMS = ["mujoco", "pybullet"]
 YAW = 0.5  # [rad] the robot and the bar turn left about the vertical: palm axes are not world's
@@ -66,13 +67,7 @@ def bar_under(palm: np.ndarray, gap: float) -> Box:
 
 def pressing(robot, model, initial) -> JointCommand:
     """Hold the posture with the knees bent 0.033 rad more: the pad presses on the bar."""
-    hold = model.hold_command(initial)
-    position = hold.position.copy()
-    for side in ("left", "right"):
-        position[robot.joint_names.index(f"{side}_knee")] += 0.033
-        position[robot.joint_names.index(f"{side}_hip_pitch")] -= 0.0165
-        position[robot.joint_names.index(f"{side}_ankle_pitch")] -= 0.0165
-    return JointCommand(position, hold.velocity, hold.torque_feedforward, hold.kp, hold.kd)
+    return knees_bent(robot, model.hold_command(initial))
 
 
 def run(
