@@ -16,7 +16,9 @@ lengths x scale and times x sqrt(scale) (Froude similarity, as the walks).
   tread at a time, the hands moving along the rails after each tread.
 - `hand_wall` (Fig. 4 A): stepping over the 25 deg scaffold boards with a palm on the wall,
   switching from the left hand to the right at the top.
-(C) the ladder and (D) the hand supports are not built yet.
+- `ladder_motion` (Fig. 4 C): the hands grasp a rung, the feet climb three rungs on their toes
+  (`robots.scene.Contact.support_in_frame`), the hands moving one rung up after the feet.
+(D) the hand supports is not built yet.
 """
 
 from __future__ import annotations
@@ -28,6 +30,7 @@ import numpy as np
 from scipy.spatial.transform import Rotation
 
 from centroidal.rotations import from_matrix
+from robots.limbs import CONTACT_MARGIN
 from robots.model import RobotModel
 from robots.multi_contact_scenes import (
     BOARD_RUN,
@@ -36,8 +39,12 @@ from robots.multi_contact_scenes import (
     HANDRAIL_HEIGHT,
     HANDRAIL_RUNOUT,
     HANDRAIL_Y,
+    LADDER_RUNG_THICKNESS,
+    LADDER_X,
     MOTION_PERIOD_S,
     PAPER_BOARD_INCLINE_RAD,
+    PAPER_RUNG_DEPTH_M,
+    PAPER_RUNG_SPACING_M,
     PAPER_STEP_COUNT,
     PAPER_STEP_RISE_M,
     STEP_RUN,
@@ -45,6 +52,7 @@ from robots.multi_contact_scenes import (
     WALL_INNER_FACE_Y,
     hand_wall,
     handrail_stairs,
+    ladder,
     moving_contacts,
 )
 from robots.scene import Contact, ContactPhase, Grasp, LimbWaypoint, Scenario
@@ -144,6 +152,7 @@ class ContactSequence:
         lift: float | None = None,
         lift_over: bool = True,
         settle: float = 0.0,
+        via: dict[str, tuple[tuple[float, tuple[float, float, float]], ...]] | None = None,
     ) -> None:
         """Each target's limb leaves its contact (or, if it has none, the pose `start_poses`
         gives it: position [m], orientation (w, x, y, z), a waypoint at the move's start) and
@@ -154,7 +163,9 @@ class ContactSequence:
         nosing); with `lift_over` False, to `lift` above each end (a hand moving parallel to a
         sloped rail). `settle` [s]: the limb reaches the target this long before the contact
         starts and waits there, free (a grasp is made where the hand is when it starts: the
-        servos' lag then has time to go)."""
+        servos' lag then has time to go). `via`: per limb, positions [m] its swing passes
+        through, each at a fraction of the swing (a foot drawn back from under the next rung
+        before it rises), in the origin's orientation before mid-swing and the target's after."""
         start = self.time
         for target in targets:
             if target.limb in self._holding:
@@ -186,6 +197,18 @@ class ContactSequence:
                         start + swing,
                         target.position_world,
                         target.orientation_world,
+                    )
+                )
+            for fraction, position in (via or {}).get(target.limb, ()):
+                if not 0.0 < fraction < 1.0:
+                    raise ValueError(f"a via point's fraction must be in (0, 1), got {fraction}")
+                pose = origin if fraction < 0.5 else target
+                self.waypoints.append(
+                    LimbWaypoint(
+                        target.limb,
+                        start + fraction * swing,
+                        tuple(float(v) for v in position),
+                        pose.orientation_world,
                     )
                 )
             if lift is not None:
@@ -324,8 +347,7 @@ def _scenario(
     total = sequence.time if duration is None else duration
     if duration is not None:
         phases = [p for p in phases if p.start < duration]
-        last = phases[-1]
-        phases[-1] = ContactPhase(last.start, duration, last.contacts, last.com_offset_world)
+        phases[-1] = replace(phases[-1], end=duration)
     grasps = sequence.all_grasps()
     if grasps:
         scene = replace(scene, grasps=grasps)
@@ -557,4 +579,169 @@ def hand_wall_motion(model: RobotModel, duration: float | None = None) -> Scenar
         duration,
         hand_contact_kd_linear=PAPER_WALL_HAND_KD,
         com_height_offset=WALL_WALK_COM_HEIGHT * s,
+    )
+
+
+PAPER_LADDER_COM_BEHIND_M = 0.4
+PAPER_LADDER_COM_FORWARD_M = 0.1
+"""Sec. V-C, (C): "the reference CoM position is set 0.4 m behind the center of the ladder, but
+offset forward by 0.1 m to reduce the pitch moment during the hand contact transitions"."""
+PAPER_LADDER_HAND_KD = 50000.0
+"""Table II's note: the hands' linear K_d in contact "50000 for climbing a vertical ladder"."""
+
+LADDER_TOE_OVERHANG = 0.015
+"""[m] at scale 1: a foot on a rung has its toe tip this far beyond the rung's far edge, so
+that the whole 75 mm depth lies under the sole even if it touches down a little short."""
+LADDER_FOOT_RETREAT = 0.13
+"""[m] at scale 1: before it rises, a foot on a rung is drawn back this far, its toe tip then
+0.02 m behind the rung's near edge (the next rung is right above the toes)."""
+LADDER_CLEARANCE = 0.05
+"""[m] at scale 1: a foot rises to this above its next rung before moving in over it."""
+LADDER_HAND_Y = 0.18
+"""[m] at scale 1: the hands grasp the rungs 0.18 m either side of the centre (the shoulders
+are 0.21 m out; the stiles' inner faces 0.25 m)."""
+LADDER_HAND_RETREAT = 0.06
+"""[m] at scale 1: a hand moving to the next rung is drawn back this far from the rungs' near
+faces first, and rises there."""
+LADDER_FIRST_HAND_RUNG = 6
+"""The rung the hands grasp first, standing on the ground (its top 1.20 m up, its centre 0.075
+m below the shoulders); they move one rung up after the feet do (`ladder_motion`)."""
+LADDER_CLIMB_RUNGS = 3
+"""How many rungs the feet climb (to the third, 0.60 m up)."""
+LADDER_STAND_S = 1.0
+LADDER_REACH_S = 2.0
+LADDER_SWING_S = 2.0
+LADDER_DOUBLE_S = 0.8
+LADDER_HAND_MOVE_S = 2.0
+"""[s] at scale 1 of `ladder_motion`: standing first, each hand's first reach, each foot's
+swing to the next rung, each double support after a step or a hand's move, each hand's move
+to the next rung (its last `STAIRS_SETTLE_S` at the grasp pose, waiting), and the CoM's move
+back from over the feet to the ladder's reference once both hands grasp."""
+
+
+def _rung_top(scale: float, rung: int) -> float:
+    """The height [m] of rung `rung`'s top face (`robots.multi_contact_scenes.ladder`)."""
+    return rung * PAPER_RUNG_SPACING_M * scale
+
+
+def _rung_foot(scale: float, foot: Contact, rung: int) -> Contact:
+    """`foot` standing on its toes on rung `rung`: level, its toe tip `LADDER_TOE_OVERHANG`
+    beyond the rung's far edge, the support polygon the part of the sole over the rung
+    (`Contact.support_in_frame`, the sole frame at the sole's centre) with the inner margin."""
+    s = scale
+    half_length, half_width = 0.11 * s, 0.06 * s  # the humanoid's sole, robots.humanoid
+    far_edge = LADDER_X * s + 0.5 * PAPER_RUNG_DEPTH_M * s
+    x = far_edge + LADDER_TOE_OVERHANG * s - half_length
+    near_edge = LADDER_X * s - 0.5 * PAPER_RUNG_DEPTH_M * s
+    margin = CONTACT_MARGIN * s
+    back, front = near_edge - x + margin, far_edge - x - margin
+    side = half_width - margin
+    return Contact(
+        foot.limb,
+        (x, foot.position_world[1], _rung_top(s, rung)),
+        support_in_frame=((front, side), (back, side), (back, -side), (front, -side)),
+    )
+
+
+def _rung_grasp(scale: float, side: str, rung: int) -> tuple[Contact, str]:
+    """A hand grasping rung `rung` (Fig. 4 C, "grasping contacts ... friction pyramids facing
+    each other"): the hand's end face on the rung's near face (the contact frame's z axis, into
+    the hand, along -x: the frame turned -90 deg about y), at the rung's mid-thickness,
+    `LADDER_HAND_Y` out; and the rung box."""
+    s = scale
+    sign = 1.0 if side == "left" else -1.0
+    near_face = LADDER_X * s - 0.5 * PAPER_RUNG_DEPTH_M * s
+    z = _rung_top(s, rung) - 0.5 * LADDER_RUNG_THICKNESS * s
+    orientation = (math.sqrt(0.5), 0.0, -math.sqrt(0.5), 0.0)
+    contact = Contact(
+        f"{side}_hand", (near_face, sign * LADDER_HAND_Y * s, z), orientation, grasp=True
+    )
+    return contact, f"rung_{rung:02d}"
+
+
+def ladder_motion(model: RobotModel, duration: float | None = None) -> Scenario:
+    """Fig. 4 (C): "climbing a vertical ladder with 200 mm steps. The depth of the ladder rungs
+    is 75 mm, which is less than half the depth of the robot's sole" (`robots.
+    multi_contact_scenes.ladder`). Standing before the ladder, the hands grasp rung
+    `LADDER_FIRST_HAND_RUNG` (left, then right); then, `LADDER_CLIMB_RUNGS` times, the right
+    foot and then the left step up to the next rung (on their toes: `_rung_foot`; from a rung
+    drawn back first, `LADDER_FOOT_RETREAT`, to rise clear of the one above) and the left hand
+    and then the right move one rung up. The CoM reference is Sec. V-C's: "0.4 m behind the
+    center of the ladder, but offset forward by 0.1 m" horizontally (on the ladder's centre
+    line), the constant offset above the feet's mean height vertically; Table III's ladder
+    gains and Table II's hand K_d for the ladder.
+
+    On the centrobench humanoid this rule puts the knee of a leg stepping up into the rungs
+    above (its shank and ankle, 0.44 m, are two rung spacings): both simulators stop it at the
+    first step (the thigh touches a rung, README)."""
+    robot = model.robot
+    s, time_scale, poses, feet, sequence = _begin(model)
+    com_x = LADDER_X * s - (PAPER_LADDER_COM_BEHIND_M - PAPER_LADDER_COM_FORWARD_M) * s
+
+    def com_offset() -> tuple[float, float]:
+        """From the rule's support centre (the feet in contact after the phase's moves start:
+        `planners.reference.support_centre`) to the ladder's CoM reference."""
+        standing = [c for c in sequence.contacts.values() if c.limb.endswith("foot")]
+        centre = np.mean([c.position_world[:2] for c in standing], axis=0)
+        return (float(com_x - centre[0]), float(-centre[1]))
+
+    sequence.hold(LADDER_STAND_S * time_scale)
+    hand_rung = LADDER_FIRST_HAND_RUNG
+    settle = STAIRS_SETTLE_S * time_scale
+    for side in ("left", "right"):
+        grasp, box = _rung_grasp(s, side, hand_rung)
+        sequence.move(
+            (grasp,), LADDER_REACH_S * time_scale, poses, boxes={grasp.limb: box}, settle=settle
+        )
+        sequence.hold(LADDER_DOUBLE_S * time_scale)
+    retreat, clearance = LADDER_FOOT_RETREAT * s, LADDER_CLEARANCE * s
+    for rung in range(1, LADDER_CLIMB_RUNGS + 1):
+        for foot in ("right_foot", "left_foot"):
+            origin, target = feet[foot], _rung_foot(s, feet[foot], rung)
+            x0, y, z0 = origin.position_world
+            back = x0 - (retreat if z0 > 0 else 0.0)
+            high = target.position_world[2] + clearance
+            via = {
+                foot: (
+                    (0.15, (back, y, z0 + 0.5 * clearance)),
+                    (0.5, (back, y, high)),
+                    (0.8, (target.position_world[0], y, high)),
+                )
+            }
+            del sequence.contacts[foot]  # the support centre of the swing: the other foot
+            offset = com_offset()
+            sequence.contacts[foot] = origin
+            sequence.move((target,), LADDER_SWING_S * time_scale, com_offset=offset, via=via)
+            feet[foot] = target
+            sequence.hold(LADDER_DOUBLE_S * time_scale, com_offset())
+        hand_rung += 1
+        for side in ("left", "right"):
+            grasp, box = _rung_grasp(s, side, hand_rung)
+            x, y, z = sequence.contacts[grasp.limb].position_world
+            back = x - LADDER_HAND_RETREAT * s
+            via = {
+                grasp.limb: (
+                    (0.25, (back, y, z)),
+                    (0.75, (back, y, grasp.position_world[2])),
+                )
+            }
+            sequence.move(
+                (grasp,),
+                LADDER_HAND_MOVE_S * time_scale,
+                com_offset=com_offset(),
+                boxes={grasp.limb: box},
+                settle=settle,
+                via=via,
+            )
+            sequence.hold(LADDER_DOUBLE_S * time_scale, com_offset())
+    sequence.hold(LADDER_STAND_S * time_scale, com_offset())
+    return _scenario(
+        "ladder",
+        ladder(robot),
+        sequence,
+        model,
+        duration,
+        swing_height=0.0,
+        hand_contact_kd_linear=PAPER_LADDER_HAND_KD,
+        ladder_gains=True,
     )

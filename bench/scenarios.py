@@ -36,7 +36,12 @@ from dataclasses import dataclass, replace
 import numpy as np
 
 from bench.limits import MAX_WALK_STEPS
-from bench.motions import hand_wall_motion, handrail_stairs_motion, moving_contacts_motion
+from bench.motions import (
+    hand_wall_motion,
+    handrail_stairs_motion,
+    ladder_motion,
+    moving_contacts_motion,
+)
 from centroidal.rotations import heading_quaternion
 from robots.gait import GAIT_STEPS, GaitCommand
 from robots.model import RobotModel
@@ -348,6 +353,12 @@ SCENARIOS: dict[str, ScenarioSpec] = {
         "handrail_stairs",
         handrail_stairs_motion,
         "Murooka 2022 Fig. 4 (B): climbing four 150 mm steps, hands grasping the handrails",
+        requires=MULTI_CONTACT,
+    ),
+    "ladder": ScenarioSpec(
+        "ladder",
+        ladder_motion,
+        "Murooka 2022 Fig. 4 (C): climbing a vertical ladder, 200 mm rungs, on the toes",
         requires=MULTI_CONTACT,
     ),
 }

@@ -169,6 +169,7 @@ class PreviewControlPlanner:
             zmp_planned_world=zmp,
             contact_limbs=phase.limbs,
             grasp_limbs=self._phase_contacts.grasps(phase),
+            contact_surfaces=self._phase_contacts.phase_surfaces(phase),
             footsteps=self.schedule.upcoming(t),
             limb_target_position_world=positions,
             limb_target_orientation_world=orientations,

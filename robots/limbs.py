@@ -10,7 +10,7 @@ import numpy as np
 
 from centroidal.contacts import ContactSet, ContactSurface, contact_set
 from centroidal.rotations import to_matrix, yaw_of
-from robots.scene import ContactPhase, Scenario
+from robots.scene import Contact, ContactPhase, Scenario
 from robots.spec import RobotDescription
 from robots.types import Footstep
 
@@ -28,6 +28,26 @@ class PhaseContacts:
         self.grasping = grasp_surfaces(surfaces)
         self._built: dict[int, tuple[ContactPhase, ContactSet, float]] = {}
         self._grasps: dict[int, tuple[ContactPhase, tuple[str, ...]]] = {}
+        self._phase_surfaces: dict[int, tuple[ContactPhase, tuple[ContactSurface, ...]]] = {}
+
+    def surface_of(self, contact: Contact) -> ContactSurface:
+        """The contact's surface: the limb's (as a grasp if it grasps), or its own polygon
+        (`Contact.support_in_frame`) with the limb's friction."""
+        surface = (self.grasping if contact.grasp else self.surfaces)[contact.limb]
+        if contact.support_in_frame is not None:
+            surface = replace(
+                surface, vertices_in_frame=np.array(contact.support_in_frame, dtype=float)
+            )
+        return surface
+
+    def phase_surfaces(self, phase: ContactPhase) -> tuple[ContactSurface, ...]:
+        """The surfaces of `phase`'s contacts in their order (cached per phase object: the
+        same tuple while the phase lasts)."""
+        known = self._phase_surfaces.get(id(phase))
+        if known is None or known[0] is not phase:
+            surfaces = tuple(self.surface_of(c) for c in phase.contacts)
+            known = self._phase_surfaces[id(phase)] = (phase, surfaces)
+        return known[1]
 
     def grasps(self, phase: ContactPhase) -> tuple[str, ...]:
         """The limbs of `phase` that grasp (cached per phase object)."""
@@ -42,7 +62,7 @@ class PhaseContacts:
         if built is None or built[0] is not phase:
             contacts = contact_set(
                 [c.limb for c in phase.contacts],
-                [(self.grasping if c.grasp else self.surfaces)[c.limb] for c in phase.contacts],
+                self.phase_surfaces(phase),
                 [np.asarray(c.position_world, dtype=float) for c in phase.contacts],
                 [to_matrix(c.orientation_world) for c in phase.contacts],
             )

@@ -219,6 +219,10 @@ class Contact:
     position_world: tuple[float, float, float]
     orientation_world: tuple[float, float, float, float] = (1.0, 0.0, 0.0, 0.0)
     grasp: bool = False
+    support_in_frame: tuple[tuple[float, float], ...] | None = None
+    """Where only part of the limb's surface touches (a foot's toes on a ladder rung, Fig. 4 C):
+    the vertices (x, y) [m] of the polygon that does, in the contact frame's x-y plane, inner
+    margin included; None: the limb's whole surface (`robots.limbs.limb_surfaces`)."""
 
 
 @dataclass(frozen=True)

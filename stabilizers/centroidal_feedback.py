@@ -171,20 +171,23 @@ class CentroidalFeedbackStabilizer:
         key = (
             plan.contact_limbs,
             plan.grasp_limbs,
+            id(plan.contact_surfaces),
             positions[index].tobytes(),
             orientations[index].tobytes(),
         )
         if self._cache_key == key:
             return self._cache
         rotations = to_matrices(orientations[index]) if len(index) else np.zeros((0, 3, 3))
+        if plan.contact_surfaces is not None:  # the planner's, in contact_limbs' order
+            surface_of = dict(zip(plan.contact_limbs, plan.contact_surfaces, strict=True))
+        else:
+            surface_of = {
+                name: (self.grasping if name in plan.grasp_limbs else self.surfaces)[name]
+                for name in plan.contact_limbs
+            }
         contacts = contact_set(
             [self.limb_names[k] for k in index],
-            [
-                (self.grasping if self.limb_names[k] in plan.grasp_limbs else self.surfaces)[
-                    self.limb_names[k]
-                ]
-                for k in index
-            ],
+            [surface_of[self.limb_names[k]] for k in index],
             [positions[k] for k in index],
             list(rotations),
         )

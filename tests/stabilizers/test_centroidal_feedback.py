@@ -211,3 +211,36 @@ def test_a_motions_hand_damping_replaces_table_iis_hand_kd(standing):
     assert kd[right_hand].tolist() == default[right_hand].tolist() == [300.0] * 3 + [40.0] * 3
     for foot in ("left_foot", "right_foot"):
         assert kd[names.index(foot)].tolist() == default[names.index(foot)].tolist()
+
+
+def test_distribution_uses_the_plans_contact_polygons(standing):
+    """`CentroidalPlan.contact_surfaces` reaches eqs. 13-14: standing on two feet whose
+    polygons are only their toes (x from 0.03 to 0.10 m in the sole frame), the desired
+    centre of pressure of each foot (in its contact frame: -my / fz) lies on that polygon,
+    while with the whole soles (no contact_surfaces) it lies under the CoM, at the centre."""
+    from dataclasses import replace
+
+    from robots.limbs import limb_surfaces
+
+    model, scenario, state = standing
+    names = model.robot.limb_names
+    feet = ("left_foot", "right_foot")
+    surfaces = limb_surfaces(model.robot, scenario.scene.friction)
+    toes = np.array([[0.10, 0.05], [0.03, 0.05], [0.03, -0.05], [0.10, -0.05]])
+    stabilizer, plan = _stabilizer_and_plan(standing, feet)
+    cop = {}
+    for contact_surfaces in (
+        None,
+        tuple(replace(surfaces[f], vertices_in_frame=toes) for f in feet),
+    ):
+        targets = stabilizer.stabilize(0.0, replace(plan, contact_surfaces=contact_surfaces), state)
+        wrenches = targets.contact_wrench_desired_limb
+        cop[contact_surfaces is None] = [
+            -wrenches[names.index(f), 4] / wrenches[names.index(f), 2] for f in feet
+        ]
+    com_x = state.com_position_world[0]
+    for foot, x in zip(feet, cop[True], strict=True):
+        sole = model.frame_pose(state, model.robot.limb(foot).contact_frame)[0]
+        assert x == pytest.approx(com_x - sole[0], abs=0.005)
+    for x in cop[False]:
+        assert 0.03 - 1e-6 <= x <= 0.10 + 1e-6
