@@ -282,6 +282,20 @@ def build_parser() -> argparse.ArgumentParser:
     run.add_argument("--out", default=None, help="write the per-period trace to FILE.parquet")
     run.add_argument("--json", action="store_true", help="the summary as one JSON object")
 
+    check = commands.add_parser(
+        "check",
+        help="can the robot's joints follow a scenario at all: the IK alone on its targets, "
+        "links touching the scene, task errors, joints at limits (no dynamics)",
+    )
+    check.add_argument("--scenario", required=True, help="a scenario name")
+    check.add_argument(
+        "--scale",
+        type=_scale("--scale"),
+        default=1.0,
+        help=f"robot length scale, {SCALE_RANGE[0]:g} to {SCALE_RANGE[1]:g} (default 1)",
+    )
+    check.add_argument("--json", action="store_true", help="one JSON object on stdout")
+
     commands.add_parser(
         "list",
         help="the registered controllers, planners, stabilizers, whole-body layers, "
@@ -532,6 +546,23 @@ def _robot(args: argparse.Namespace) -> int:
                 f"  {gap['mass_rel']:.1e}  {gap['com_m']:.1e}  {gap['inertia_rel']:.1e}  {joints}"
             )
         print(line)
+    return 0
+
+
+def _check(args: argparse.Namespace) -> int:
+    from dataclasses import asdict
+
+    from bench.kinematic_check import check_scenario, format_check
+    from bench.scenarios import make_scenario
+    from robots.humanoid import humanoid
+    from robots.model import RobotModel
+
+    model = RobotModel(humanoid(args.scale))
+    check = check_scenario(model, make_scenario(args.scenario, model))
+    if args.json:
+        print(json.dumps({**asdict(check), "feasible": check.feasible}, indent=2))
+    else:
+        print(format_check(check))
     return 0
 
 
@@ -986,6 +1017,7 @@ def main(argv: Sequence[str] | None = None) -> int:
             return 0
         commands = {
             "robot": _robot,
+            "check": _check,
             "demo": _demo,
             "run": _run,
             "list": _list,

@@ -259,6 +259,23 @@ class ContactSequence:
         )
         self._phase(duration, com_offset)
 
+    def carry(self, limb: str, pose: tuple[np.ndarray, np.ndarray]) -> None:
+        """A free limb passes through `pose` (position [m], orientation (w, x, y, z)) now (a
+        `LimbWaypoint` at the current time): a hand not yet used is carried along with the
+        walking body instead of being held where the robot started (before its first
+        waypoint a limb's target is that waypoint, `Scenario.limb_pose`)."""
+        if limb in self.contacts:
+            raise ValueError(f"{limb!r} is in contact: only a free limb is carried")
+        position, orientation = pose
+        self.waypoints.append(
+            LimbWaypoint(
+                limb,
+                self.time,
+                tuple(float(v) for v in position),
+                tuple(float(v) for v in orientation),
+            )
+        )
+
     def all_grasps(self) -> tuple[Grasp, ...]:
         """The grasps made so far, those still held lasting to the end (`Grasp.end` inf)."""
         held = [Grasp(limb, box, since) for limb, (box, since) in self._holding.items()]
@@ -500,6 +517,14 @@ WALL_WALK_HAND_AHEAD = 0.10
 WALL_WALK_SWITCH = 5
 """The foothold (from 0) at which the right hand takes the right wall and the left lets go
 (Fig. 5: "contact forces of the left hand (1-6 s) and right hand (6-10 s)")."""
+WALL_WALK_PALM_HEIGHT = 0.90
+"""[m] at scale 1: (A)'s palm on the wall is this far above the feet's foothold. Ours, from the
+kinematic check (`bench.kinematic_check`, the IK alone on the motion): at `WALL_PALM_HEIGHT`
+(1.00 m, (E)'s) the left wrist pitch sits at its limit and the CoM is up to 94 mm (28 mm on
+average over the phases) from its reference; at 0.90 m up to 61 mm (13 mm); 0.75, 0.85 and
+1.10 m were worse, and so was placing the palm 0.0 or 0.2 m ahead of the feet instead of
+`WALL_WALK_HAND_AHEAD` (each with the right hand held at its start pose, before
+`ContactSequence.carry`)."""
 PAPER_WALL_HAND_KD = 1000.0
 """Table II's note: the hands' linear K_d in contact "1000 for walking with hands on the wall"."""
 WALL_WALK_LIFT = 0.05
@@ -537,6 +562,7 @@ def hand_wall_motion(model: RobotModel, duration: float | None = None) -> Scenar
     hands' damping K_d of Table II's note for this motion (`PAPER_WALL_HAND_KD`)."""
     robot = model.robot
     s, time_scale, poses, feet, sequence = _begin(model)
+    sequence.carry("right_hand", poses["right_hand"])
     sequence.hold(WALL_WALK_DOUBLE_S * time_scale)
     left, right = _wall_palms(s)
 
@@ -544,7 +570,7 @@ def hand_wall_motion(model: RobotModel, duration: float | None = None) -> Scenar
         _, y, _ = contact.position_world
         ahead = x + WALL_WALK_HAND_AHEAD * s
         return Contact(
-            contact.limb, (ahead, y, z + WALL_PALM_HEIGHT * s), contact.orientation_world
+            contact.limb, (ahead, y, z + WALL_WALK_PALM_HEIGHT * s), contact.orientation_world
         )
 
     sequence.move((palm(left, 0.0, 0.0),), WALL_WALK_HAND_S * time_scale, poses)
@@ -559,8 +585,14 @@ def hand_wall_motion(model: RobotModel, duration: float | None = None) -> Scenar
             sequence.move((target,), WALL_WALK_SWING_S * time_scale, lift=WALL_WALK_LIFT * s)
             feet[foot] = target
             sequence.hold(WALL_WALK_DOUBLE_S * time_scale)
+        position, orientation = poses["right_hand"]
+        hanging = (position + np.array([x, 0.0, z]), orientation)  # beside the body
+        if k < WALL_WALK_SWITCH:
+            sequence.carry("right_hand", hanging)
         if k == WALL_WALK_SWITCH:
-            sequence.move((palm(right, x, z),), WALL_WALK_HAND_S * time_scale, poses)
+            sequence.move(
+                (palm(right, x, z),), WALL_WALK_HAND_S * time_scale, {"right_hand": hanging}
+            )
             sequence.hold(WALL_WALK_DOUBLE_S * time_scale)
             hanging, orientation_hanging = poses["left_hand"]
             let_go = (hanging + np.array([x, 0.0, z]), orientation_hanging)

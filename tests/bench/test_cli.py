@@ -52,7 +52,7 @@ def test_robot_json_shows_identical_models(scale):
         (["robot", "--scale", "abc"], "must be a number"),
         (["robot", "--mass", "0"], "--mass must be in [0.001, 1e+06] kg, got '0'"),
         (["demo", "--sim", "gazebo"], "choose from: mujoco, pybullet"),
-        (["nonsense"], "choose from 'robot', 'run', 'list', 'compare', 'demo'"),
+        (["nonsense"], "choose from 'robot', 'run', 'check', 'list', 'compare', 'demo'"),
     ],
 )
 def test_bad_input_is_one_clear_line(args, expected):

@@ -475,9 +475,9 @@ def test_ladder_stands_on_the_rungs_on_its_toes_and_grasps_the_rungs(scale):
 
 
 _FALLS = {
-    "hand_wall": "(A) falls (2026-11-24): at 11.8 s in MuJoCo (base tilt), 14.4 s in PyBullet "
-    "(torso on a wall), on the ascending board; the feet alone over the same footholds fall too "
-    "(MuJoCo: 9.9 s at the standing CoM height, 18.6 s at 0.78 m, 23.9 s with 1.5 s swings)",
+    "hand_wall": "(A) falls (2026-11-24): at 14.0 s in MuJoCo, 15.2 s in PyBullet (base tilt), "
+    "on the ascending board; the feet alone over the same footholds fall too (MuJoCo: 9.9 s at "
+    "the standing CoM height, 18.6 s at 0.78 m, 23.9 s with 1.5 s swings)",
     "ladder": "(C) falls (2026-11-24) at 7.82 s in both simulators: the right thigh touches a "
     "rung on the first step up, as the kinematics predict for Sec. V-C's CoM 0.3 m behind "
     "the ladder (README, (C) the ladder)",

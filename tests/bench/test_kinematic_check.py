@@ -1,0 +1,64 @@
+"""The kinematic check (`bench.kinematic_check`): the IK alone on a scenario's targets."""
+
+import json
+
+import numpy as np
+import pytest
+
+from bench.cli import main
+from bench.kinematic_check import check_scenario, smoothed
+from bench.scenarios import make_scenario
+from robots.humanoid import humanoid
+from robots.model import RobotModel
+
+
+@pytest.fixture(scope="module")
+def model():
+    return RobotModel(humanoid())
+
+
+def test_smoothing_turns_a_step_into_a_ramp_across_the_window():
+    """A unit step at sample 10, averaged over the 4 samples i - 2 ... i + 1: 0 up to sample
+    8, then 1/4, 2/4, 3/4 and 1 from sample 12 on; the ends held (a constant stays)."""
+    step = np.zeros((20, 1))
+    step[10:] = 1.0
+    out = smoothed(step, 4)[:, 0]
+    np.testing.assert_allclose(out[:9], 0.0)
+    np.testing.assert_allclose(out[9:12], [0.25, 0.5, 0.75])
+    np.testing.assert_allclose(out[12:], 1.0)
+    np.testing.assert_allclose(smoothed(np.full((5, 3), 2.0), 4), 2.0)
+
+
+def test_the_walk_is_followed_within_a_centimetre_without_touching(model):
+    """The flat-ground walk, which every controller walks in both simulators: the IK alone
+    keeps the CoM and every tracked limb within 1 cm of their targets, no link but the feet
+    touches the ground, and no joint reaches a limit."""
+    check = check_scenario(model, make_scenario("walk", model))
+    assert check.feasible
+    for phase in check.phases:
+        assert phase.com_error_max_m < 0.01, phase
+        assert phase.limb_error_max_m < 0.01, phase
+        assert not phase.at_limit, phase
+
+
+def test_the_ladder_touches_a_rung_with_the_stepping_leg(model):
+    """Fig. 4 (C) with Sec. V-C's CoM 0.3 m behind the ladder: the first touch happens while
+    the right foot swings up to the first rung (hands on the rung, left foot on the ground)
+    and is a link of the right leg."""
+    scenario = make_scenario("ladder", model)
+    check = check_scenario(model, scenario)
+    assert not check.feasible
+    time, links = check.first_touch
+    phase = scenario.phase_at(time)
+    assert set(phase.limbs) == {"left_foot", "left_hand", "right_hand"}
+    assert set(links) <= {"right_thigh", "right_shank"}
+
+
+def test_check_command_prints_json(capsys):
+    assert main(["check", "--scenario", "stand", "--json"]) == 0
+    report = json.loads(capsys.readouterr().out)
+    assert report["scenario"] == "stand"
+    assert report["feasible"] is True
+    assert report["first_touch"] is None
+    assert main(["check", "--scenario", "no_such_scenario"]) == 2
+    assert "unknown scenario" in capsys.readouterr().err
