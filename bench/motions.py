@@ -18,7 +18,9 @@ lengths x scale and times x sqrt(scale) (Froude similarity, as the walks).
   switching from the left hand to the right at the top.
 - `ladder_motion` (Fig. 4 C): the hands grasp a rung, the feet climb three rungs on their toes
   (`robots.scene.Contact.support_in_frame`), the hands moving one rung up after the feet.
-(D) the hand supports is not built yet.
+- `hand_supports_motion` (Fig. 4 D): crouched, both palms on the two supports, then the feet
+  swing forward together while the hands alone carry the body, and the hands follow one at a
+  time.
 """
 
 from __future__ import annotations
@@ -47,9 +49,12 @@ from robots.multi_contact_scenes import (
     PAPER_RUNG_SPACING_M,
     PAPER_STEP_COUNT,
     PAPER_STEP_RISE_M,
+    PAPER_SUPPORT_HEIGHT_M,
     STEP_RUN,
+    SUPPORT_Y,
     WALKWAY_START_X,
     WALL_INNER_FACE_Y,
+    hand_supports,
     hand_wall,
     handrail_stairs,
     ladder,
@@ -776,4 +781,90 @@ def ladder_motion(model: RobotModel, duration: float | None = None) -> Scenario:
         swing_height=0.0,
         hand_contact_kd_linear=PAPER_LADDER_HAND_KD,
         ladder_gains=True,
+    )
+
+
+SUPPORTS_COM_HEIGHT = 0.60
+"""(D): the CoM reference's constant height [m] above the soles (ours; 0.826 m standing). The
+crouch that brings the palms down to the 0.5 m supports with the elbows straight: by the
+kinematic check (`centrobench check --scenario hand_supports`), 0.60 m gives CoM errors of
+8-10 mm in every phase; 0.63 m gives 35-47 mm and 0.66 m 63-78 mm (the palms pull the CoM
+down), 0.57 m puts the ankles at their pitch limit in double support."""
+SUPPORTS_FEET_AHEAD = 0.10
+"""(D): the feet land this far [m] ahead of the hands (ours), and the hands then move to
+above the feet: each cycle moves the robot forward by this much. The hands are never ahead
+of the feet when the feet take off, so that the CoM is above the hands already (the
+flight's CoM reference, `planners.reference.support_centre`, is the hands' centre): with
+the hands 0.05-0.10 m ahead, the ankles' pitch limit keeps the CoM 24-52 mm short of them
+(kinematic check), and in MuJoCo releasing the feet then kicked the body off the supports."""
+SUPPORTS_CYCLES = 3
+SUPPORTS_STAND_S = 1.0
+SUPPORTS_REACH_S = 2.0
+SUPPORTS_SETTLE_S = 0.5
+"""(D): the palms reach the supports this long before their contact starts (as the grasps'
+`STAIRS_SETTLE_S`)."""
+SUPPORTS_DOUBLE_S = 1.0
+SUPPORTS_SWING_S = 1.0
+"""(D): both feet swing together over this time [s], the hands alone carrying the body."""
+SUPPORTS_LAND_S = 0.8
+SUPPORTS_HAND_MOVE_S = 1.5
+SUPPORTS_FOOT_LIFT = 0.03
+SUPPORTS_HAND_LIFT = 0.05
+
+
+def _support_palm(scale: float, side: str, x: float) -> Contact:
+    """A palm flat on top of the support on `side` at x [m]: the contact frame level (z up,
+    into the palm), on the support's centre line."""
+    sign = 1.0 if side == "left" else -1.0
+    return Contact(f"{side}_hand", (x, sign * SUPPORT_Y * scale, PAPER_SUPPORT_HEIGHT_M * scale))
+
+
+def hand_supports_motion(model: RobotModel, duration: float | None = None) -> Scenario:
+    """Fig. 4 (D): "with both hands on the support surfaces at the height of 500 mm, moving
+    forward by swinging both feet simultaneously" (`robots.multi_contact_scenes.
+    hand_supports`). The robot crouches (`SUPPORTS_COM_HEIGHT`) while both palms reach the
+    supports beside its feet; then, `SUPPORTS_CYCLES` times, both feet swing together to
+    `SUPPORTS_FEET_AHEAD` ahead of the hands (a phase on the two palms alone), and the left
+    palm and then the right move to above the feet. CoM reference by Sec. V-C's rules (the
+    feet's centre, constant height above their mean; on the hands alone, their centre at the
+    last feet's height); Table II's contact-phase K_d (the paper names no other value for this
+    motion)."""
+    robot = model.robot
+    s, time_scale, poses, feet, sequence = _begin(model)
+    sequence.hold(SUPPORTS_STAND_S * time_scale)
+    x_hands = 0.0
+    sequence.move(
+        (_support_palm(s, "left", x_hands), _support_palm(s, "right", x_hands)),
+        SUPPORTS_REACH_S * time_scale,
+        poses,
+        lift=SUPPORTS_HAND_LIFT * s,
+        settle=SUPPORTS_SETTLE_S * time_scale,
+    )
+    sequence.hold(SUPPORTS_DOUBLE_S * time_scale)
+    for _ in range(SUPPORTS_CYCLES):
+        x_feet = x_hands + SUPPORTS_FEET_AHEAD * s
+        targets = tuple(
+            Contact(foot, (x_feet, feet[foot].position_world[1], 0.0))
+            for foot in ("left_foot", "right_foot")
+        )
+        sequence.move(targets, SUPPORTS_SWING_S * time_scale, lift=SUPPORTS_FOOT_LIFT * s)
+        feet.update({target.limb: target for target in targets})
+        sequence.hold(SUPPORTS_LAND_S * time_scale)
+        x_hands = x_feet
+        for side in ("left", "right"):
+            sequence.move(
+                (_support_palm(s, side, x_hands),),
+                SUPPORTS_HAND_MOVE_S * time_scale,
+                lift=SUPPORTS_HAND_LIFT * s,
+            )
+            sequence.hold(SUPPORTS_LAND_S * time_scale)
+    sequence.hold(SUPPORTS_DOUBLE_S * time_scale)
+    return _scenario(
+        "hand_supports",
+        hand_supports(robot),
+        sequence,
+        model,
+        duration,
+        com_height_offset=SUPPORTS_COM_HEIGHT * s,
+        swing_height=0.0,
     )

@@ -37,6 +37,7 @@ import numpy as np
 
 from bench.limits import MAX_WALK_STEPS
 from bench.motions import (
+    hand_supports_motion,
     hand_wall_motion,
     handrail_stairs_motion,
     ladder_motion,
@@ -359,6 +360,12 @@ SCENARIOS: dict[str, ScenarioSpec] = {
         "ladder",
         ladder_motion,
         "Murooka 2022 Fig. 4 (C): climbing a vertical ladder, 200 mm rungs, on the toes",
+        requires=MULTI_CONTACT,
+    ),
+    "hand_supports": ScenarioSpec(
+        "hand_supports",
+        hand_supports_motion,
+        "Murooka 2022 Fig. 4 (D): palms on two 500 mm supports, both feet swinging together",
         requires=MULTI_CONTACT,
     ),
 }

@@ -92,6 +92,10 @@ SUPPORT_Y = 0.32
 """(D): the supports' centre lines 0.32 m either side, 0.11 m beyond the shoulders; their inner
 edges (0.24 m) clear the soles' outer edges (0.15 m)."""
 SUPPORT_WIDTH = 0.16
+SUPPORT_FALL_HEIGHT = 0.30
+"""(D): base height [m] below which the robot counts as fallen on the supports (ours): the
+motion crouches on purpose to bring the palms to 0.5 m (base at about 0.45 m at scale 1, the
+humanoid's own fall height), so the scene sets a lower one, two thirds of that crouch."""
 SUPPORT_X_RANGE = (-0.30, 1.50)
 """(D): the supports run from beside the robot's start to 1.5 m ahead (the motion moves
 forward along them)."""
@@ -291,8 +295,8 @@ def hand_supports(robot: RobotDescription) -> Scene:
     `support_left` and `support_right` (ours but the height): solid blocks from the ground to
     0.500 m, 0.16 m wide, centred at y = +-0.32 m, from x = -0.30 m (beside the robot's start)
     to 1.50 m. At scale 1 the palms are at 0.79 m in the standing posture: reaching 0.5 m
-    takes a crouch or a forward lean, as for the paper's 1.8 m robot. Every length x
-    robot.scale."""
+    takes a crouch or a forward lean, as for the paper's 1.8 m robot; the scene's fall height
+    is `SUPPORT_FALL_HEIGHT` for that crouch. Every length x robot.scale."""
     s = robot.scale
     x_range = (SUPPORT_X_RANGE[0] * s, SUPPORT_X_RANGE[1] * s)
     y, half_width, top = SUPPORT_Y * s, 0.5 * SUPPORT_WIDTH * s, PAPER_SUPPORT_HEIGHT_M * s
@@ -302,6 +306,7 @@ def hand_supports(robot: RobotDescription) -> Scene:
             _block("support_right", x_range, (-y - half_width, -y + half_width), (0.0, top)),
         ),
         friction=PAPER_FRICTION,
+        fall_height=SUPPORT_FALL_HEIGHT * s,
     )
 
 

@@ -162,6 +162,10 @@ class Scene:
     ground: bool = True
     max_tilt: float = np.deg2rad(30.0)
     """Base tilt [rad] above which the robot counts as fallen."""
+    fall_height: float | None = None
+    """Base height [m, world z] below which the robot counts as fallen; None: the robot's own
+    `RobotDescription.fall_height`. A scene whose motion crouches on purpose (Fig. 4 D) sets
+    its own, lower one."""
     moving_boxes: tuple[MovingBox, ...] = ()
     grasps: tuple[Grasp, ...] = ()
 

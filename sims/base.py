@@ -394,8 +394,11 @@ class SimulatorBase(abc.ABC):
                 f"base tilt {np.rad2deg(tilt):.1f} deg above {np.rad2deg(self.scene.max_tilt):.0f}"
             )
         height = sensors.base_position_world[2]
-        if height < self.robot.fall_height:
-            return f"base height {height:.3f} m below {self.robot.fall_height:.3f} m"
+        fall_height = (
+            self.robot.fall_height if self.scene.fall_height is None else self.scene.fall_height
+        )
+        if height < fall_height:
+            return f"base height {height:.3f} m below {fall_height:.3f} m"
         touching = self._other_links_touching_scene()
         if touching:
             return f"{', '.join(sorted(touching))} touching the scene"

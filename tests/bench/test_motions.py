@@ -474,6 +474,69 @@ def test_ladder_stands_on_the_rungs_on_its_toes_and_grasps_the_rungs(scale):
                 assert not [n for n in inside if n.startswith("rung")], (t, foot, point)
 
 
+# --- moving with both hands on the supports (Fig. 4 D) --------------------------------------
+
+
+@pytest.mark.parametrize("scale", [1.0, 1.2])
+def test_hand_supports_swings_both_feet_while_the_palms_carry_the_body(scale):
+    """(D): the palms lie flat on the supports' tops (normal up, on their footprints); in
+    every phase without a foot both palms are in contact, and both feet leave and land in the
+    same phases (they swing together); each landing is the same distance ahead of the last,
+    ahead of the hands, and the CoM reference on the hands alone is above their centre; no
+    swinging limb passes through a support; the crouch's CoM offset and the scene's own fall
+    height are set below the standing ones."""
+    from planners.reference import support_centre
+
+    model = RobotModel(humanoid(scale))
+    scenario = make_scenario("hand_supports", model)
+    _check_phases_cover(scenario)
+    supports = [b for b in scenario.scene.boxes if b.name.startswith("support")]
+    assert len(supports) == 2
+    flights = 0
+    landings = []
+    for before, phase in zip(scenario.phases, scenario.phases[1:], strict=False):
+        feet = {c.limb for c in phase.contacts if c.limb.endswith("foot")}
+        assert feet in (set(), {"left_foot", "right_foot"}), phase
+        if not feet:
+            flights += 1
+            assert {c.limb for c in phase.contacts} == {"left_hand", "right_hand"}
+            hands = np.mean([c.position_world[:2] for c in phase.contacts], axis=0)
+            centre, _ = support_centre(scenario, 0.5 * (phase.start + phase.end))
+            np.testing.assert_allclose(centre, hands, rtol=0, atol=1e-12)
+        elif not any(c.limb.endswith("foot") for c in before.contacts):
+            xs = {c.position_world[0] for c in phase.contacts if c.limb.endswith("foot")}
+            assert len(xs) == 1
+            hands = [c.position_world[0] for c in before.contacts]
+            assert xs.pop() > max(hands)
+            landings.append(next(c for c in phase.contacts if c.limb == "left_foot"))
+        for contact in phase.contacts:
+            if contact.limb.endswith("hand"):
+                np.testing.assert_allclose(contact_normal(contact.orientation_world), (0, 0, 1))
+                on = [
+                    b
+                    for b in supports
+                    if abs(contact.position_world[2] - (b.center_world[2] + b.half_extents[2]))
+                    < 1e-12
+                    and all(
+                        abs(contact.position_world[k] - b.center_world[k]) <= b.half_extents[k]
+                        for k in (0, 1)
+                    )
+                ]
+                assert len(on) == 1, contact
+    assert flights == 3
+    steps = np.diff([0.0] + [c.position_world[0] for c in landings])
+    np.testing.assert_allclose(steps, steps[0], rtol=0, atol=1e-12)
+    assert steps[0] > 0.05 * scale
+    for t in np.arange(0.0, scenario.duration, 0.01):
+        for limb in ("left_foot", "right_foot", "left_hand", "right_hand"):
+            pose = scenario.limb_pose(limb, t)
+            if pose is not None:
+                assert not _boxes_containing(scenario.scene, pose[0], margin=-0.001), (t, limb)
+    standing = model.standing_state()
+    assert scenario.com_height_offset < model.com_position_world(standing)[2] - 0.15 * scale
+    assert scenario.scene.fall_height < model.robot.fall_height
+
+
 _FALLS = {
     "hand_wall": "(A) falls (2026-11-24): at 14.0 s in MuJoCo, 15.2 s in PyBullet (base tilt), "
     "on the ascending board; the feet alone over the same footholds fall too (MuJoCo: 9.9 s at "
@@ -488,10 +551,11 @@ _FALLS = {
 @pytest.mark.parametrize("sim", ["mujoco", "pybullet"])
 @pytest.mark.parametrize(
     "motion",
-    [pytest.param(m, marks=pytest.mark.xfail(strict=True, reason=r)) for m, r in _FALLS.items()],
+    [pytest.param(m, marks=pytest.mark.xfail(strict=True, reason=r)) for m, r in _FALLS.items()]
+    + ["hand_supports"],
 )
 def test_motion_completes_without_a_fall(motion, sim):
-    """(A) and (C) with `preview_control` + `centroidal_feedback`, the whole sequence."""
+    """(A), (C) and (D) with `preview_control` + `centroidal_feedback`, the whole sequence."""
     result = run_controller("preview_control+centroidal_feedback", sim, motion)
     assert result.summary["status"] == "ok", result.summary["error"]
     assert not result.summary["fell"]

@@ -250,3 +250,27 @@ def test_an_arm_against_a_rail_is_not_a_fall_but_the_torso_is(robot, model, sim_
     assert results["forearm"][1] is None, results["forearm"][1]
     assert results["torso"][1] is not None
     assert "torso touching the scene" in results["torso"][1]
+
+
+@pytest.mark.parametrize("sim_name", ["mujoco", "pybullet"])
+def test_a_scenes_fall_height_replaces_the_robots(robot, model, sim_name):
+    """A robot standing with its base below its own fall height has fallen in a scene without
+    one of its own, and has not in a scene whose lower `Scene.fall_height` allows the crouch
+    (Fig. 4 D's supports)."""
+    standing = model.standing_state()
+    base_height = float(standing.base_position_world[2])
+    high = dataclasses.replace(robot, fall_height=base_height + 0.1)
+    reasons = []
+    for scene in (Scene(), Scene(fall_height=base_height - 0.1)):
+        sim = make_simulator(sim_name)
+        try:
+            sim.reset(high, scene, standing)
+            for _ in range(10):
+                sim.step(model.hold_command(standing))
+            reasons.append(sim.fall_reason())
+        finally:
+            sim.close()
+    assert reasons[0] is not None
+    assert reasons[0].startswith("base height")
+    assert f"{base_height + 0.1:.3f} m" in reasons[0]
+    assert reasons[1] is None
