@@ -153,6 +153,39 @@ def _scale(kind: str) -> Callable[[str], float]:
     return _number(kind, SCALE_RANGE[0], maximum=SCALE_RANGE[1])
 
 
+def _robot_name(text: str) -> str:
+    """An argparse type: a registered robot's name (`robots.robot_registry`)."""
+    from robots.robot_registry import robot_entry
+
+    try:
+        robot_entry(text)
+    except KeyError as exc:
+        raise argparse.ArgumentTypeError(exc.args[0]) from None
+    return text
+
+
+def _add_robot(parser: argparse.ArgumentParser) -> None:
+    from robots.robot_registry import DEFAULT_ROBOT, ROBOTS
+
+    parser.add_argument(
+        "--robot",
+        type=_robot_name,
+        default=DEFAULT_ROBOT,
+        help=f"{', '.join(ROBOTS)} (default {DEFAULT_ROBOT})",
+    )
+
+
+def _robot_of(args: argparse.Namespace, scale: float = 1.0, mass: float | None = None):
+    """The description of --robot at `scale` (and `mass`); UsageError, one line, for a robot
+    that has one size."""
+    from robots.robot_registry import make_robot
+
+    try:
+        return make_robot(args.robot, scale, mass)
+    except ValueError as exc:
+        raise UsageError(str(exc)) from None
+
+
 def _sweep_name(text: str) -> str:
     """An argparse type: a sweep name, one plain path component (results/NAME)."""
     if not valid_name(text):
@@ -230,6 +263,7 @@ def build_parser() -> argparse.ArgumentParser:
         default=None,
         help="total mass [kg] instead of the scaled one",
     )
+    _add_robot(robot)
     robot.add_argument("--json", action="store_true", help="one JSON object on stdout")
 
     run = commands.add_parser("run", help="run one episode and summarise it")
@@ -245,6 +279,7 @@ def build_parser() -> argparse.ArgumentParser:
     )
     run.add_argument("--sim", required=True, type=_one_simulator, help="mujoco or pybullet")
     run.add_argument("--scenario", required=True, help="a scenario name")
+    _add_robot(run)
     run.add_argument(
         "--duration",
         type=_episode_seconds("--duration"),
@@ -294,12 +329,13 @@ def build_parser() -> argparse.ArgumentParser:
         default=1.0,
         help=f"robot length scale, {SCALE_RANGE[0]:g} to {SCALE_RANGE[1]:g} (default 1)",
     )
+    _add_robot(check)
     check.add_argument("--json", action="store_true", help="one JSON object on stdout")
 
     commands.add_parser(
         "list",
         help="the registered controllers, planners, stabilizers, whole-body layers, "
-        "estimators, scenarios and simulators",
+        "estimators, scenarios, simulators and robots",
     )
 
     compare = commands.add_parser(
@@ -322,6 +358,7 @@ def build_parser() -> argparse.ArgumentParser:
     compare.add_argument(
         "--stabilizer", default="centroidal_feedback", help="default centroidal_feedback"
     )
+    _add_robot(compare)
     compare.add_argument(
         "--horizons",
         type=_listed(
@@ -524,9 +561,8 @@ def build_parser() -> argparse.ArgumentParser:
 
 def _robot(args: argparse.Namespace) -> int:
     from bench.robot_check import robot_report
-    from robots.humanoid import humanoid
 
-    report = robot_report(humanoid(args.scale, total_mass=args.mass))
+    report = robot_report(_robot_of(args, args.scale, args.mass))
     if args.json:
         print(json.dumps(report, indent=2))
         return 0
@@ -554,10 +590,9 @@ def _check(args: argparse.Namespace) -> int:
 
     from bench.kinematic_check import check_scenario, format_check
     from bench.scenarios import make_scenario
-    from robots.humanoid import humanoid
     from robots.model import RobotModel
 
-    model = RobotModel(humanoid(args.scale))
+    model = RobotModel(_robot_of(args, args.scale))
     check = check_scenario(model, make_scenario(args.scenario, model))
     if args.json:
         print(json.dumps({**asdict(check), "feasible": check.feasible}, indent=2))
@@ -655,7 +690,14 @@ def _compare(args: argparse.Namespace) -> int:
             flush=True,
         )
 
-    table = compare(args.planners, args.scenario, args.sims, args.stabilizer, progress=progress)
+    table = compare(
+        args.planners,
+        args.scenario,
+        args.sims,
+        args.stabilizer,
+        progress=progress,
+        robot=args.robot,
+    )
     with _pd_options():
         print(table.drop(columns=["error"]).to_string(index=False, float_format="%.4g"))
         paper = paper_rows(args.scenario, args.planners)
@@ -671,7 +713,7 @@ def _compare(args: argparse.Namespace) -> int:
         except OSError as exc:
             raise _write_failed("--out", args.out, exc) from None
     if args.horizons:
-        timing = horizon_timing(formulations, args.horizons)
+        timing = horizon_timing(formulations, args.horizons, robot=args.robot)
         print()
         with _pd_options():
             print(
@@ -729,6 +771,7 @@ def _run(args: argparse.Namespace) -> int:
         estimator=args.estimator,
         whole_body=args.whole_body,
         speed=args.speed,
+        robot=args.robot,
     )
     result = run_episode(spec)
     summary = summary_json_ready(result.summary)
@@ -784,6 +827,7 @@ def _list(args: argparse.Namespace) -> int:
     from bench.scenarios import SCENARIOS
     from estimators.base import ESTIMATORS
     from planners.base import PLANNERS
+    from robots.robot_registry import ROBOTS
     from stabilizers.base import STABILIZERS
     from wholebody.base import DEFAULT_WHOLE_BODY, WHOLE_BODY_LAYERS
 
@@ -813,6 +857,7 @@ def _list(args: argparse.Namespace) -> int:
         "estimators": described(ESTIMATORS, DEFAULT_ESTIMATOR),
         "scenarios": {n: s.description for n, s in SCENARIOS.items()},
         "simulators": {n: "" for n in SIMULATORS},
+        "robots": {n: r.description for n, r in ROBOTS.items()},
     }
     for title, entries in sections.items():
         print(f"{title}:")

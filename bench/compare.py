@@ -20,6 +20,7 @@ import pandas as pd
 
 from bench.metrics import feedback_magnitude
 from bench.runner import EpisodeSpec, run_episode
+from robots.robot_registry import DEFAULT_ROBOT, make_robot
 
 COMPARISON_COLUMNS = (
     "planner",
@@ -128,12 +129,15 @@ def compare(
     workers: int | None = None,
     progress: Callable[[dict], None] | None = None,
     duration: float | None = None,
+    robot: str = DEFAULT_ROBOT,
 ) -> pd.DataFrame:
     """One episode per planner x simulator (in parallel processes), as a DataFrame with the
     columns of `COMPARISON_COLUMNS` plus `error`. A failed episode is a row with its status.
-    `duration` [s] shortens the scenario (None: its own)."""
+    `duration` [s] shortens the scenario (None: its own); `robot` a registered robot."""
     specs = [
-        EpisodeSpec(p, stabilizer, s, scenario, duration=duration) for p in planners for s in sims
+        EpisodeSpec(p, stabilizer, s, scenario, duration=duration, robot=robot)
+        for p in planners
+        for s in sims
     ]
     workers = workers or min(len(specs), os.cpu_count() or 1)
     rows = []
@@ -151,6 +155,7 @@ def horizon_timing(
     updates: int = 20,
     scenario: str = "walk",
     start_time: float = 0.0,
+    robot: str = DEFAULT_ROBOT,
 ) -> pd.DataFrame:
     """Median and p99 [ms] of `linear_mpc`'s update (planner call) per formulation and horizon
     length, over `updates` consecutive periods from `start_time` on `scenario` with the robot's
@@ -165,10 +170,9 @@ def horizon_timing(
 
     from bench.scenarios import make_scenario
     from planners.linear_mpc import LinearMpcPlanner
-    from robots.humanoid import humanoid
     from robots.model import RobotModel
 
-    model = RobotModel(humanoid())
+    model = RobotModel(make_robot(robot))
     setting = make_scenario(scenario, model)
     state = model.standing_state()
     state = replace(

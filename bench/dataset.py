@@ -57,6 +57,7 @@ ROW_SCHEMA = pa.schema(
     [
         ("episode_id", _STRING),
         ("controller", _STRING),
+        ("robot", _STRING),
         ("planner", _STRING),
         ("stabilizer", _STRING),
         ("whole_body", _STRING),
@@ -142,6 +143,7 @@ def summary_row(
     row: dict[str, Any] = {name: None for name in ROW_SCHEMA.names}
     row.update(labels)
     for key in (
+        "robot",
         "planner",
         "stabilizer",
         "whole_body",

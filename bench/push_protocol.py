@@ -33,6 +33,7 @@ import numpy as np
 
 from bench.limits import MAX_EPISODE_SECONDS, MAX_PUSH_COUNT, MAX_PUSH_DV, SEED_LIMIT
 from bench.scenarios import WALK_STEPS
+from robots.robot_registry import DEFAULT_ROBOT, make_robot
 
 PHASES = ("standing", "walking")
 PUSH_DURATION = 0.1  # [s] Ficht & Behnke's pushes; our scenarios' default
@@ -131,21 +132,18 @@ def _number(label: str, value: Any, strict: bool = False) -> float:
 
 
 @functools.cache
-def robot_mass(scale: float) -> float:
-    """Total mass [kg] of the centrobench humanoid at `scale`."""
-    from robots.humanoid import humanoid
-
-    return float(humanoid(scale).total_mass)
+def robot_mass(scale: float, robot: str = DEFAULT_ROBOT) -> float:
+    """Total mass [kg] of `robot` (`robots.robot_registry`) at `scale`."""
+    return float(make_robot(robot, scale).total_mass)
 
 
 @functools.cache
-def walking_push_time(scale: float, step: int) -> float:
+def walking_push_time(scale: float, step: int, robot: str = DEFAULT_ROBOT) -> float:
     """Start [s] of the push in the middle of the walk's single-support phase `step`."""
     from bench.scenarios import make_scenario
-    from robots.humanoid import humanoid
     from robots.model import RobotModel
 
-    scenario = make_scenario("walk_push", RobotModel(humanoid(scale)), push_step=step)
+    scenario = make_scenario("walk_push", RobotModel(make_robot(robot, scale)), push_step=step)
     return float(scenario.pushes[0].time)
 
 
@@ -154,7 +152,8 @@ def push_episodes(protocol: PushProtocol, common: dict[str, Any]) -> Iterator[tu
     EpisodeSpec fields shared by the grid point (planner, stabilizer, sim, seed, scale...)."""
     from bench.runner import EpisodeSpec
 
-    mass = robot_mass(common["scale"])
+    robot = common.get("robot", DEFAULT_ROBOT)
+    mass = robot_mass(common["scale"], robot)
     directions = protocol.directions_deg()
     for phase in protocol.phases:
         if phase == "standing":
@@ -165,7 +164,7 @@ def push_episodes(protocol: PushProtocol, common: dict[str, Any]) -> Iterator[tu
                 **common,
             )
         else:
-            start = walking_push_time(common["scale"], protocol.walking_push_step)
+            start = walking_push_time(common["scale"], protocol.walking_push_step, robot)
             base = EpisodeSpec(
                 scenario="walk_push",
                 push_step=protocol.walking_push_step,

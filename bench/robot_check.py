@@ -113,12 +113,20 @@ def robot_report(robot: RobotDescription) -> dict:
 
 
 def robot_height(robot: RobotDescription) -> float:
-    """Standing height [m] in the zero posture: top of the highest geometry above the soles."""
+    """Standing height [m] in the zero posture (every joint at 0, base upright): the top of the
+    highest shape of any link above the lowest sole centre (boxes and capsules are axis-aligned
+    in that posture, as every description builds them)."""
     model = RobotModel(robot)
     state = RobotState.at_rest(np.zeros(3), np.array([1.0, 0, 0, 0]), np.zeros(robot.n_joints))
-    sole = model.frame_positions_world(state, [robot.limbs[0].contact_frame])[0, 2]
+    soles = [limb.contact_frame for limb in robot.limbs if limb.name.endswith("foot")]
+    sole = model.frame_positions_world(state, soles)[:, 2].min()
+    origins = model.frame_positions_world(state, list(robot.link_names))
     top = max(
-        g.position_in_link[2] + (g.size[0] if g.kind == "sphere" else g.size[-1])
-        for g in robot.link(robot.base_link).geometries
+        origin[2]
+        + g.position_in_link[2]
+        + (g.size[0] if g.kind == "sphere" else g.size[-1])
+        + (g.size[0] if g.kind == "capsule" else 0.0)
+        for link, origin in zip(robot.links, origins, strict=True)
+        for g in link.geometries
     )
     return float(top - sole)

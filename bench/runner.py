@@ -42,7 +42,9 @@ from centroidal.support import margin_inside, support_halfplanes, surface_vertic
 from estimators.base import DEFAULT_ESTIMATOR, make_estimator
 from planners.base import planner_spec
 from robots.humanoid import humanoid
+from robots.jvrc1 import jvrc1
 from robots.model import RobotModel, cached_model
+from robots.robot_registry import DEFAULT_ROBOT, make_robot
 from robots.scene import Scenario
 from robots.types import CentroidalPlan, JointCommand, WholeBodyTargets
 from sims.base import clear_backend_caches, make_simulator
@@ -78,6 +80,7 @@ class EpisodeSpec:
     whole_body: str = DEFAULT_WHOLE_BODY  # the whole-body layer (`wholebody.base`)
     speed: float | None = None  # [m/s] forward speed of walk / walk_push (None: the default)
     steps: int | None = None  # steps of walk / walk_push (None: their 10)
+    robot: str = DEFAULT_ROBOT  # `robots.robot_registry`
 
 
 @dataclass
@@ -234,6 +237,7 @@ def clear_setup_caches() -> None:
     """Forget every per-process set-up cache (robots, pinocchio models, compiled MuJoCo models,
     idle PyBullet clients): the next episode sets up from scratch, as in a new worker."""
     humanoid.cache_clear()
+    jvrc1.cache_clear()
     cached_model.cache_clear()
     clear_backend_caches()
 
@@ -248,6 +252,7 @@ def run_episode(spec: EpisodeSpec, progress: MutableSequence[float] | None = Non
         progress = [0.0, 0.0]
     progress[0], progress[1] = 0.0, 0.0
     summary: dict = {
+        "robot": spec.robot,
         "planner": spec.planner,
         "stabilizer": spec.stabilizer,
         "sim": spec.sim,
@@ -288,7 +293,7 @@ def run_episode(spec: EpisodeSpec, progress: MutableSequence[float] | None = Non
     sim = None
     try:
         np.random.seed(spec.seed)  # noqa: NPY002 - seeds any legacy-API randomness too
-        robot = humanoid(spec.scale)  # both cached per process: set-up paid once per worker
+        robot = make_robot(spec.robot, spec.scale)  # both cached per process: set-up once a worker
         model = cached_model(robot)
         scenario = make_scenario(
             spec.scenario,

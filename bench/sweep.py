@@ -34,6 +34,7 @@ from bench.dataset import RETRIED_STATUSES, ResultStore, failure_row, read_episo
 from bench.executors import EpisodeTimeout, make_executor, worker_progress
 from bench.runner import run_episode
 from bench.sweep_spec import Episode, SweepSpec
+from robots.robot_registry import DEFAULT_ROBOT, make_robot
 
 
 def run_one(episode: Episode) -> tuple[dict[str, Any], pd.DataFrame | None, pd.DataFrame | None]:
@@ -51,7 +52,9 @@ def run_one(episode: Episode) -> tuple[dict[str, Any], pd.DataFrame | None, pd.D
 
 def _failure_row(episode: Episode, exc: BaseException) -> dict[str, Any]:
     run = asdict(episode.run)
-    base = {k: run[k] for k in ("planner", "stabilizer", "sim", "scenario", "seed", "scale")}
+    base = {
+        k: run[k] for k in ("robot", "planner", "stabilizer", "sim", "scenario", "seed", "scale")
+    }
     base.update(
         estimator=run["estimator"],
         friction=run["friction"],
@@ -78,15 +81,16 @@ class NotApplicable(Exception):
 
 
 @functools.cache
-def simulated_duration(scenario: str, scale: float, duration: float | None) -> float:
+def simulated_duration(
+    scenario: str, scale: float, duration: float | None, robot: str = DEFAULT_ROBOT
+) -> float:
     """Simulated seconds of an episode: `duration`, or the scenario's own length."""
     if duration is not None:
         return duration
     from bench.scenarios import make_scenario
-    from robots.humanoid import humanoid
     from robots.model import RobotModel
 
-    return float(make_scenario(scenario, RobotModel(humanoid(scale))).duration)
+    return float(make_scenario(scenario, RobotModel(make_robot(robot, scale))).duration)
 
 
 class SweepTerminated(KeyboardInterrupt):
@@ -201,7 +205,9 @@ def _budget(spec: SweepSpec) -> Callable[[Episode], float]:
 
     def budget(episode: Episode) -> float:
         run = episode.run
-        return spec.wall_budget_s(simulated_duration(run.scenario, run.scale, run.duration))
+        return spec.wall_budget_s(
+            simulated_duration(run.scenario, run.scale, run.duration, run.robot)
+        )
 
     return budget
 

@@ -9,7 +9,8 @@ A spec (every field but `controllers` and `sims` optional)::
     scenarios = ["walk"]        # episodes without a push, one per grid point
     speeds = [0.1, 0.2]         # forward speeds [m/s] of walk / walk_push (default: their own)
     seeds = [0]
-    scales = [1.0]              # robot length scale (mass with its cube)
+    robots = ["centrobench_humanoid"]   # `robots.robot_registry` names, or ["all"]
+    scales = [1.0]              # robot length scale (mass with its cube): scalable robots only
     frictions = [0.6]           # Coulomb coefficient of every contact
     estimator = "kinematic_inertial"
     traces = ["walk"]           # scenarios whose per-period traces are stored
@@ -31,6 +32,7 @@ from __future__ import annotations
 
 import functools
 import hashlib
+import itertools
 import json
 import tomllib
 from dataclasses import asdict, dataclass, field
@@ -61,6 +63,7 @@ from bench.push_protocol import (
 from bench.runner import EpisodeSpec
 from bench.scenarios import SCENARIOS, WALKS_WITH_SPEED
 from estimators.base import DEFAULT_ESTIMATOR, ESTIMATORS
+from robots.robot_registry import DEFAULT_ROBOT, ROBOTS
 from sims.base import SIMULATORS
 from wholebody.base import DEFAULT_WHOLE_BODY
 
@@ -106,6 +109,7 @@ class SweepSpec:
     name: str = "sweep"
     scenarios: tuple[str, ...] = ()
     seeds: tuple[int, ...] = (0,)
+    robots: tuple[str, ...] = (DEFAULT_ROBOT,)
     scales: tuple[float, ...] = (1.0,)
     frictions: tuple[float, ...] = (0.6,)
     estimator: str = DEFAULT_ESTIMATOR
@@ -126,6 +130,8 @@ class SweepSpec:
             data.pop("push")
         if not self.speeds:  # as before speeds existed: earlier digests stay valid
             data.pop("speeds")
+        if self.robots == (DEFAULT_ROBOT,):  # as before robots existed
+            data.pop("robots")
         return data
 
     def identity(self) -> dict[str, Any]:
@@ -160,46 +166,43 @@ class SweepSpec:
         for controller in self.controllers:
             pair = controller_spec(controller)
             for sim in self.sims:
-                for scale in self.scales:
-                    for friction in self.frictions:
-                        for seed in self.seeds:
-                            common = dict(
-                                planner=pair.planner,
-                                stabilizer=pair.stabilizer,
-                                whole_body=pair.whole_body,
-                                sim=sim,
-                                seed=seed,
-                                estimator=self.estimator_of(pair),
-                                scale=scale,
-                                friction=friction,
+                for robot, scale, friction, seed in itertools.product(
+                    self.robots, self.scales, self.frictions, self.seeds
+                ):
+                    common = dict(
+                        planner=pair.planner,
+                        stabilizer=pair.stabilizer,
+                        whole_body=pair.whole_body,
+                        sim=sim,
+                        seed=seed,
+                        estimator=self.estimator_of(pair),
+                        scale=scale,
+                        friction=friction,
+                        robot=robot,
+                    )
+                    for scenario in self.scenarios:
+                        for speed in self.speeds_of(scenario):
+                            run = EpisodeSpec(
+                                scenario=scenario, duration=self.duration, speed=speed, **common
                             )
-                            for scenario in self.scenarios:
-                                for speed in self.speeds_of(scenario):
-                                    run = EpisodeSpec(
-                                        scenario=scenario,
-                                        duration=self.duration,
-                                        speed=speed,
-                                        **common,
-                                    )
-                                    keep = scenario in self.traces
-                                    result.append(_episode(controller, run, keep_trace=keep))
-                            if self.push is not None:
-                                for labels, run in push_episodes(self.push, common):
-                                    result.append(
-                                        _episode(
-                                            controller,
-                                            run,
-                                            keep_trace=run.scenario in self.traces,
-                                            **labels,
-                                        )
-                                    )
+                            keep = scenario in self.traces
+                            result.append(_episode(controller, run, keep_trace=keep))
+                    if self.push is not None:
+                        for labels, run in push_episodes(self.push, common):
+                            keep = run.scenario in self.traces
+                            result.append(_episode(controller, run, keep_trace=keep, **labels))
         return result
 
 
 # EpisodeSpec fields added after results were first published, with their defaults: left out
 # of an episode's id while at the default, so that earlier result directories keep their ids
 # (a resume of them runs nothing twice)
-LATER_FIELDS = {"whole_body": DEFAULT_WHOLE_BODY, "speed": None, "steps": None}
+LATER_FIELDS = {
+    "whole_body": DEFAULT_WHOLE_BODY,
+    "speed": None,
+    "steps": None,
+    "robot": DEFAULT_ROBOT,
+}
 
 
 def _episode(controller: str, run: EpisodeSpec, keep_trace: bool, **labels) -> Episode:
@@ -223,6 +226,7 @@ _TOP_FIELDS = {
     "sims": "a list of simulator names",
     "scenarios": "a list of scenario names",
     "seeds": f"a list of integers in [0, {SEED_LIMIT - 1}]",
+    "robots": "a list of robot names",
     "scales": f"a list of length scales in [{SCALE_RANGE[0]:g}, {SCALE_RANGE[1]:g}]",
     "frictions": f"a list of friction coefficients in (0, {FRICTION_MAX:g}]",
     "estimator": "an estimator name",
@@ -308,10 +312,19 @@ def spec_from_mapping(data: dict[str, Any]) -> SweepSpec:
         _integer(f"seeds[{k}]", v, 0, SEED_LIMIT - 1)
         for k, v in enumerate(_list("seeds", data, [0]))
     )
+    robots = _names("robots", data.get("robots", [DEFAULT_ROBOT]), sorted(ROBOTS))
+    if not robots:
+        raise SpecError("sweep spec field 'robots' must not be empty")
     scales = tuple(
         _in_range(f"scales[{k}]", v, *SCALE_RANGE)
         for k, v in enumerate(_list("scales", data, [1.0]))
     )
+    for robot in robots:
+        if not ROBOTS[robot].scalable and scales != (1.0,):
+            raise SpecError(
+                f"sweep spec field 'scales': robot {robot!r} has one size, so a sweep with it "
+                f"takes scales = [1.0], got {list(scales)}"
+            )
     frictions = tuple(
         _in_range(f"frictions[{k}]", v, 0.0, FRICTION_MAX, strict=True)
         for k, v in enumerate(_list("frictions", data, [0.6]))
@@ -366,21 +379,25 @@ def spec_from_mapping(data: dict[str, Any]) -> SweepSpec:
     # the grid's size from its axes, before any episode is listed
     plain = sum(len(speeds) if speeds and s in WALKS_WITH_SPEED else 1 for s in scenarios)
     per_point = plain + (len(push.phases) * len(push.dv) * push.count if push else 0)
-    total = len(controllers) * len(sims) * len(scales) * len(frictions) * len(seeds) * per_point
+    total = (
+        len(controllers) * len(sims) * len(robots) * len(scales) * len(frictions) * len(seeds)
+    ) * per_point
     if total > MAX_EPISODES:
         raise SpecError(
-            f"sweep spec: {total} episodes (controllers x sims x scales x frictions x seeds x "
+            f"sweep spec: {total} episodes (controllers x sims x robots x scales x frictions x "
+            "seeds x "
             f"(scenarios + push phases x dv x count)), more than the {MAX_EPISODES} a sweep may "
             "have; split it into several sweeps"
         )
     if push is not None and "walking" in push.phases:
-        _check_walking_push(push, scales)
+        _check_walking_push(push, scales, robots)
     return SweepSpec(
         controllers=controllers,
         sims=sims,
         name=name,
         scenarios=scenarios,
         seeds=seeds,
+        robots=robots,
         scales=scales,
         frictions=frictions,
         estimator=estimator,
@@ -462,12 +479,15 @@ def _in_range(
     return float(value)
 
 
-def _check_walking_push(push: PushProtocol, scales: tuple[float, ...]) -> None:
+def _check_walking_push(
+    push: PushProtocol, scales: tuple[float, ...], robots: tuple[str, ...] = (DEFAULT_ROBOT,)
+) -> None:
     """A walking push's episode (the walk up to mid single support `walking_push_step`, the
     push, `survival_time`) must fit MAX_EPISODE_SECONDS at every scale (the walk's steps
     last longer on a larger robot)."""
-    for scale in scales:
-        end = walking_push_time(scale, push.walking_push_step) + PUSH_DURATION + push.survival_time
+    for robot, scale in itertools.product(robots, scales):
+        start = walking_push_time(scale, push.walking_push_step, robot)
+        end = start + PUSH_DURATION + push.survival_time
         if end > MAX_EPISODE_SECONDS:
             raise SpecError(
                 f"sweep spec field 'push.survival_time': a walking push at scale {scale:g} "

@@ -94,6 +94,20 @@ def read_all_results(
     return episodes, records, notes
 
 
+def label_robots(episodes: pd.DataFrame) -> pd.DataFrame:
+    """The episodes with their `robot` filled in (rows written before robots could be chosen
+    have none: the default robot's) and, when more than one robot is present, the robot in
+    the controller's label ("preview_control+centroidal_feedback @ jvrc1"), so that every table
+    sets the robots' rows side by side; with one robot the labels are unchanged."""
+    from robots.robot_registry import DEFAULT_ROBOT
+
+    robots = episodes["robot"] if "robot" in episodes else pd.Series(None, index=episodes.index)
+    episodes = episodes.assign(robot=robots.fillna(DEFAULT_ROBOT))
+    if episodes["robot"].nunique() > 1:
+        episodes = episodes.assign(controller=episodes["controller"] + " @ " + episodes["robot"])
+    return episodes
+
+
 def _trace_dir(row: pd.Series) -> Path:
     return Path(row[RESULTS_DIR]) / "traces"
 
@@ -275,6 +289,7 @@ def build_report(
     if not roots:
         raise FileNotFoundError("no result directory given")
     episodes, records, notes = read_all_results(roots)
+    episodes = label_robots(episodes)
     record = records[0]
     windows = {survival_time_s(r) for r in records}
     if len(windows) > 1:
@@ -407,12 +422,12 @@ def _reach_traces(
     return result
 
 
-def _sole_half_extents(scale: float) -> tuple[float, float]:
-    """The half length and half width [m] of the humanoid's sole at `scale` (its robot
-    description, as the runner's; both feet are the same)."""
-    from robots.humanoid import humanoid
+def _sole_half_extents(scale: float, robot: str) -> tuple[float, float]:
+    """The half length and half width [m] of `robot`'s sole at `scale` (its robot description,
+    as the runner's; both feet are the same)."""
+    from robots.robot_registry import make_robot
 
-    half_length, half_width = humanoid(scale).limb("left_foot").half_extents
+    half_length, half_width = make_robot(robot, scale).limb("left_foot").half_extents
     return float(half_length), float(half_width)
 
 
@@ -439,7 +454,7 @@ def _reach_figures(
                 plots.top_view_plot(
                     trace,
                     steps,
-                    _sole_half_extents(scale),
+                    _sole_half_extents(scale, row["robot"]),
                     out / f"reach_{name}_top.png",
                     title=f"{label}: steps taken, CoM, hand, target",
                     pushes=pushes,

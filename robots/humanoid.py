@@ -39,6 +39,10 @@ from robots.spec import Frame, Geometry, Joint, Limb, Link, RobotDescription
 
 NOMINAL_HEIGHT_M = 1.60
 NOMINAL_MASS_KG = 58.4
+HIP_TO_SOLE_M = 0.80
+"""[m] at scale 1: thigh 0.36, shank 0.36, ankle axis to sole 0.08 (the legs below)."""
+FALL_HEIGHT_M = 0.45
+"""[m] at scale 1: the torso frame below this counts as a fall (standing, it is at 0.84 m)."""
 
 # Joint limits at scale 1: (lower, upper) [rad], speed [rad/s], torque [N m], kp [N m/rad],
 # kd [N m s/rad]. Roll limits are for the left side; the right side mirrors them.
@@ -87,6 +91,14 @@ _NOMINAL = {
     "wrist_pitch": 0.0,
     "wrist_roll": 0.0,
 }
+
+
+def torque_limit_at_scale_1(kind: str) -> float:
+    """The torque limit [N m] of the humanoid's joints of `kind` ("knee", "hip_pitch", ...,
+    without the side) at scale 1 and its own mass (ours, `_LEG_JOINTS` / `_ARM_JOINTS`)."""
+    return {**_LEG_JOINTS, **_ARM_JOINTS}[kind][2]
+
+
 _MIRRORED = {"hip_roll", "hip_yaw", "ankle_roll", "shoulder_roll", "shoulder_yaw", "wrist_roll"}
 
 
@@ -326,7 +338,7 @@ def humanoid(scale: float = 1.0, total_mass: float | None = None) -> RobotDescri
         limbs=tuple(sorted(limbs, key=lambda limb: limb.name.endswith("hand"))),  # feet first
         imu_frame="imu",
         nominal_posture=tuple(nominal),
-        fall_height=0.45 * k.length,
+        fall_height=FALL_HEIGHT_M * k.length,
     )
     description.validate()
     return description

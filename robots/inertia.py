@@ -80,3 +80,25 @@ def composite_inertial(geometries: Sequence[Geometry], mass: float) -> Inertial:
         com_in_link=tuple(float(x) for x in com),
         inertia_at_com=tuple(tuple(float(x) for x in row) for row in inertia),
     )
+
+
+def combined_inertial(parts: Sequence[tuple[Inertial, Sequence[float]]]) -> Inertial:
+    """Mass properties of rigidly joined bodies, each (its `Inertial` in its own frame, the
+    offset [m] of that frame in the combined body's frame; axes aligned): total mass, centre
+    of mass, and inertia about it (parallel-axis theorem) in the combined frame."""
+    masses = np.array([inertial.mass for inertial, _ in parts], dtype=float)
+    coms = np.array(
+        [np.add(inertial.com_in_link, offset) for inertial, offset in parts], dtype=float
+    )
+    mass = float(masses.sum())
+    com = masses @ coms / mass
+    inertia = np.zeros((3, 3))
+    for (inertial, _), m, c in zip(parts, masses, coms, strict=True):
+        d = c - com
+        inertia += inertial.inertia_matrix + m * (d @ d * np.eye(3) - np.outer(d, d))
+    inertia = 0.5 * (inertia + inertia.T)
+    return Inertial(
+        mass=mass,
+        com_in_link=tuple(float(x) for x in com),
+        inertia_at_com=tuple(tuple(float(x) for x in row) for row in inertia),
+    )

@@ -47,16 +47,32 @@ def _shapes(g: Geometry) -> list[str]:
     return out
 
 
+def principal_axes(inertia: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """The principal moments (3,) [kg m^2] and the rotation (3, 3) whose columns are the
+    principal axes in the link frame (right-handed), so that inertia = R diag(moments) R^T. A
+    diagonal tensor is its own: moments its diagonal, R the identity."""
+    if not np.any(inertia - np.diag(np.diag(inertia))):
+        return np.diag(inertia).copy(), np.eye(3)
+    moments, axes = np.linalg.eigh(inertia)
+    if np.linalg.det(axes) < 0:
+        axes[:, 0] = -axes[:, 0]
+    return moments, axes
+
+
 def _link(link: Link) -> str:
+    """The link's <link> element. Its inertia is written in principal axes (the <inertial>
+    origin rotated onto them, the tensor diagonal): PyBullet diagonalises any other tensor
+    itself, with an iterative method whose precision is its own; pinocchio rotates it back."""
     inertial = link.inertial
-    i = inertial.inertia_matrix
+    moments, axes = principal_axes(inertial.inertia_matrix)
+    rpy = Rotation.from_matrix(axes).as_euler("xyz") if np.any(axes != np.eye(3)) else np.zeros(3)
     parts = [
         f'  <link name="{link.name}">',
         "    <inertial>",
-        f'      <origin xyz="{_vec(inertial.com_in_link)}" rpy="0 0 0"/>',
+        f'      <origin xyz="{_vec(inertial.com_in_link)}" rpy="{_vec(rpy)}"/>',
         f'      <mass value="{inertial.mass:.17g}"/>',
-        f'      <inertia ixx="{i[0, 0]:.17g}" ixy="{i[0, 1]:.17g}" ixz="{i[0, 2]:.17g}" '
-        f'iyy="{i[1, 1]:.17g}" iyz="{i[1, 2]:.17g}" izz="{i[2, 2]:.17g}"/>',
+        f'      <inertia ixx="{moments[0]:.17g}" ixy="0" ixz="0" '
+        f'iyy="{moments[1]:.17g}" iyz="0" izz="{moments[2]:.17g}"/>',
         "    </inertial>",
     ]
     for g in link.geometries:

@@ -45,9 +45,26 @@ def test_robot_json_shows_identical_models(scale):
     assert report["height_m"] == pytest.approx(1.60 * scale)
 
 
+def test_robot_json_shows_jvrc1s_three_models_identical():
+    result = run_cli("robot", "--robot", "jvrc1", "--json")
+    assert result.returncode == 0, result.stderr
+    report = json.loads(result.stdout)
+    assert report["robot"] == "jvrc1"
+    for info in report["models"].values():
+        assert info["total_mass_kg"] == pytest.approx(62.4, rel=1e-9)
+        assert info["actuated_joints"] == 29
+    for gap in report["max_discrepancy_vs_pinocchio"].values():
+        assert max(gap["mass_rel"], gap["com_m"], gap["inertia_rel"]) <= 1e-9
+        assert gap["same_bodies"]
+        assert gap["same_joint_order"]
+        assert gap["joint_limit_rad"] <= 1e-9
+
+
 @pytest.mark.parametrize(
     ("args", "expected"),
     [
+        (["robot", "--robot", "atlas"], "unknown robot 'atlas'; choose one of: centrobench"),
+        (["robot", "--robot", "jvrc1", "--scale", "2"], "robot 'jvrc1' has one size and mass"),
         (["robot", "--scale", "-1"], "--scale must be in [0.1, 10], got '-1'"),
         (["robot", "--scale", "abc"], "must be a number"),
         (["robot", "--mass", "0"], "--mass must be in [0.001, 1e+06] kg, got '0'"),

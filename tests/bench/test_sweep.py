@@ -238,3 +238,22 @@ def test_a_two_node_ray_cluster_runs_episodes_on_both_nodes_as_local_does(
     assert all(worker.startswith("ray:") for worker in remote["worker"])
     assert not any(worker.startswith("ray:") for worker in local["worker"])
     pd.testing.assert_frame_equal(physical(local), physical(remote))
+
+
+def test_a_sweep_over_two_robots_reports_them_side_by_side(tmp_path: Path):
+    """`robots = [...]`: every row says its robot and carries that robot's mass; the report
+    labels each controller's rows with the robot, so both robots have their own rows in the
+    survival table."""
+    from reports.build import build_report
+
+    spec = small_spec(count=1, sims=["mujoco"], robots=["centrobench_humanoid", "jvrc1"])
+    frame = run_sweep(spec, tmp_path / "out", workers=1, progress=False)
+    assert sorted(frame["robot"]) == ["centrobench_humanoid"] * 2 + ["jvrc1"] * 2
+    masses = frame.groupby("robot")["mass_kg"].first()
+    assert masses["jvrc1"] == pytest.approx(62.4)
+    assert masses["centrobench_humanoid"] == pytest.approx(58.4)
+    assert (frame["status"] == "ok").all(), frame["error"].tolist()
+    build_report(tmp_path / "out", tmp_path / "report")
+    report = (tmp_path / "report" / "report.md").read_text()
+    survival = report[report.index("hold+posture @ centrobench_humanoid") :]
+    assert "hold+posture @ jvrc1" in survival

@@ -67,6 +67,9 @@ VALID = {"controllers": ["hold+posture"], "sims": ["mujoco"], "scenarios": ["sta
         ({"push": {"count": 20}}, "push.dv", "missing"),
         ({"estimator": "kalman"}, "estimator", "ground_truth"),
         ({"colour": "red"}, "colour", "valid fields: name, controllers"),
+        ({"robots": ["atlas"]}, "robots", "valid: centrobench_humanoid, jvrc1"),
+        ({"robots": []}, "robots", "must not be empty"),
+        ({"robots": ["jvrc1"], "scales": [1.2]}, "scales", "robot 'jvrc1' has one size"),
     ],
 )
 def test_malformed_spec_names_the_field_and_the_valid_values(change, field, valid):
@@ -219,6 +222,16 @@ def test_main_spec_file_is_valid():
     assert len(spec.episodes()) == len(CONTROLLERS) * 2 * (1 + 5 * 20)
 
 
+def test_jvrc1_spec_file_is_the_main_protocol_on_jvrc1():
+    root = Path(__file__).parents[2] / "bench" / "specs"
+    main_spec, spec = load_spec(root / "main.toml"), load_spec(root / "jvrc1.toml")
+    assert spec.robots == ("jvrc1",)
+    assert spec.push == main_spec.push
+    assert set(spec.controllers) == set(CONTROLLERS)
+    assert len(spec.episodes()) == len(CONTROLLERS) * 2 * (3 + 5 * 20)
+    assert {e.run.robot for e in spec.episodes()} == {"jvrc1"}
+
+
 NOT_AT_REST = {
     "direct_centroidal": "inertia control: falls within 0.7 s standing (issue 17 note)",
     "direct_centroidal/no_inertia": "the knees still straightening (time constant 0.3 s): "
@@ -274,7 +287,7 @@ def test_episode_ids_of_the_default_whole_body_layer_are_those_of_earlier_releas
 
     def earlier_id(episode) -> str:
         fields = asdict(episode.run)
-        del fields["whole_body"], fields["speed"], fields["steps"]  # the fields did not exist
+        del fields["whole_body"], fields["speed"], fields["steps"], fields["robot"]  # not then
         labels = {
             k: getattr(episode, k)
             for k in ("push_phase", "push_dv_mps", "push_index")
@@ -319,3 +332,27 @@ def test_speeds_multiply_the_walks_only():
                 "speeds": [0.1],
             }
         )
+
+
+def test_robots_multiply_the_grid_and_push_each_with_its_own_mass():
+    """Each robot gets every episode of the grid, its pushes scaled by its own mass (J = m dv);
+    the default robot's episodes keep their ids and the spec its digest (a sweep written before
+    robots could be chosen resumes)."""
+    base = {
+        "controllers": ["hold+posture"],
+        "sims": ["mujoco"],
+        "scenarios": ["stand"],
+        "push": {"dv": [0.2], "count": 2},
+    }
+    one = spec_from_mapping(base)
+    both = spec_from_mapping({**base, "robots": ["centrobench_humanoid", "jvrc1"]})
+    assert spec_from_mapping({**base, "robots": ["centrobench_humanoid"]}).digest() == one.digest()
+    assert both.digest() != one.digest()
+    episodes = both.episodes()
+    assert len(episodes) == 2 * len(one.episodes())
+    assert {e.episode_id for e in one.episodes()} < {e.episode_id for e in episodes}
+    for robot, mass in (("centrobench_humanoid", 58.4), ("jvrc1", 62.4)):
+        pushes = [e.run for e in episodes if e.run.robot == robot and e.run.push_impulse]
+        assert len(pushes) == 2
+        assert all(run.push_impulse == pytest.approx(0.2 * mass, rel=1e-9) for run in pushes)
+        assert robot_mass(1.0, robot) == pytest.approx(mass, rel=1e-12)

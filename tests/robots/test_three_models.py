@@ -8,6 +8,7 @@ import pytest
 from bench.robot_check import all_mass_properties, discrepancy
 from robots.humanoid import humanoid
 from robots.model import RobotModel
+from robots.robot_registry import make_robot
 from robots.scene import Scene
 from robots.types import RobotState
 from sims.base import make_simulator
@@ -15,9 +16,13 @@ from sims.base import make_simulator
 TOL = 1e-9
 
 
-@pytest.fixture(scope="module", params=[1.0, 1.2], ids=["scale1", "scale1.2"])
+@pytest.fixture(
+    scope="module",
+    params=[("centrobench_humanoid", 1.0), ("centrobench_humanoid", 1.2), ("jvrc1", 1.0)],
+    ids=["humanoid-scale1", "humanoid-scale1.2", "jvrc1"],
+)
 def robot(request):
-    return humanoid(request.param)
+    return make_robot(*request.param)
 
 
 @pytest.fixture(scope="module")
@@ -75,17 +80,17 @@ def test_frame_positions_identical_for_random_configurations(robot, sim_name):
         for state in _random_states(robot, 20, seed=7):
             sim.set_state(state)
             expected = model.frame_positions_world(state, names)
-            np.testing.assert_allclose(sim.frame_positions_world(names), expected, atol=TOL)
+            np.testing.assert_allclose(sim.frame_positions_world(names), expected, rtol=0, atol=TOL)
             # and the simulator reads back the state it was given
             back = sim.ground_truth()
             np.testing.assert_allclose(
-                back.base_position_world, state.base_position_world, atol=TOL
+                back.base_position_world, state.base_position_world, rtol=0, atol=TOL
             )
             sign = np.sign(back.base_orientation_world @ state.base_orientation_world)
             np.testing.assert_allclose(
-                sign * back.base_orientation_world, state.base_orientation_world, atol=TOL
+                sign * back.base_orientation_world, state.base_orientation_world, rtol=0, atol=TOL
             )
-            np.testing.assert_allclose(back.joint_position, state.joint_position, atol=TOL)
+            np.testing.assert_allclose(back.joint_position, state.joint_position, rtol=0, atol=TOL)
     finally:
         sim.close()
 
@@ -106,3 +111,35 @@ def test_frame_positions_agree_with_the_description_in_the_zero_posture():
         np.testing.assert_allclose(
             model.frame_positions_world(state, [frame.name])[0], position, atol=1e-12
         )
+
+
+def test_the_urdf_writes_every_inertia_in_its_principal_axes(robot):
+    """Off-diagonal products of inertia are zero in the generated URDF (PyBullet need not
+    diagonalise a tensor itself); a link whose tensor is not diagonal in its own frame (merged
+    or offset parts) has its inertial frame rotated onto the principal axes, and the tensor
+    rotated back equals the description's."""
+    import xml.etree.ElementTree as ET
+
+    from scipy.spatial.transform import Rotation
+
+    from robots.build import generate
+
+    root = ET.parse(generate(robot).urdf).getroot()
+    rotated = 0
+    for element in root.findall("link"):
+        inertial = element.find("inertial")
+        attributes = inertial.find("inertia").attrib
+        assert attributes["ixy"] == attributes["ixz"] == attributes["iyz"] == "0"
+        if element.get("name") not in robot.link_names:
+            continue  # a frame's massless link
+        spec = robot.link(element.get("name")).inertial.inertia_matrix
+        rpy = [float(v) for v in inertial.find("origin").get("rpy").split()]
+        axes = Rotation.from_euler("xyz", rpy).as_matrix()
+        moments = np.diag([float(attributes[k]) for k in ("ixx", "iyy", "izz")])
+        np.testing.assert_allclose(axes @ moments @ axes.T, spec, rtol=0, atol=1e-15)
+        rotated += any(rpy)
+    off_diagonal = sum(
+        bool(np.any(link.inertial.inertia_matrix - np.diag(np.diag(link.inertial.inertia_matrix))))
+        for link in robot.links
+    )
+    assert rotated == off_diagonal > 0

@@ -1,0 +1,125 @@
+"""JVRC-1 through its adapter (`robots.jvrc1`): the package's numbers kept, what the adapter adds
+where its sources put it, and a robot that stands."""
+
+import xml.etree.ElementTree as ET
+
+import numpy as np
+import pytest
+from scipy.spatial import ConvexHull
+
+from robots.jvrc1 import (
+    HALF_SITTING,
+    LOCKED_JOINTS,
+    SOLE_HALF_EXTENTS,
+    SOLE_IN_ANKLE,
+    jvrc1,
+    urdf_path,
+)
+from robots.jvrc1_shapes import BOXES
+from robots.mesh_fit import urdf_collision_boxes
+from robots.model import RobotModel
+from robots.robot_registry import ROBOTS, make_robot, robot_entry
+from tests.bench.episodes import run_controller
+
+GRAVITY = 9.81
+
+
+@pytest.fixture(scope="module")
+def robot():
+    return jvrc1()
+
+
+@pytest.fixture(scope="module")
+def model(robot):
+    return RobotModel(robot)
+
+
+def test_mass_and_joints_are_the_packages_less_the_locked_ones(robot):
+    """62.4 kg (every URDF link's mass, the massless root dropped), 29 actuated joints: the
+    package's 44 revolute joints less the neck's 3 and the fingers' 12, each with the URDF's
+    own limits."""
+    root = ET.parse(urdf_path()).getroot()
+    masses = [float(m.get("value")) for m in root.iter("mass")]
+    revolute = {j.get("name"): j for j in root.findall("joint") if j.get("type") == "revolute"}
+    assert robot.total_mass == pytest.approx(sum(masses), rel=1e-12)
+    assert robot.total_mass == pytest.approx(62.4, rel=1e-12)
+    assert len(revolute) == 44
+    assert robot.n_joints == 29
+    assert set(robot.joint_names) == set(revolute) - LOCKED_JOINTS
+    assert robot.base_link == "PELVIS_S"
+    for joint in robot.joints:
+        limit = revolute[joint.name].find("limit")
+        assert joint.lower == float(limit.get("lower"))
+        assert joint.upper == float(limit.get("upper"))
+        assert joint.velocity_limit == float(limit.get("velocity"))
+    assert robot.nominal_posture == tuple(HALF_SITTING[name] for name in robot.joint_names)
+
+
+def test_sole_frames_are_at_the_sole_centres(robot, model):
+    """Each sole frame is mc_rtc's foot surface centre on the ankle link, and is the centre of
+    the bottom face of the foot's collision box, which is the 0.20 x 0.08 m sole."""
+    state = model.standing_state()
+    for side in ("left", "right"):
+        limb = robot.limb(f"{side}_foot")
+        frame = robot.frame(limb.contact_frame)
+        assert frame.link == limb.link
+        assert frame.position_in_link == SOLE_IN_ANKLE
+        assert limb.half_extents == SOLE_HALF_EXTENTS == (0.10, 0.04)
+        (box,) = robot.link(limb.link).geometries
+        bottom = np.array(box.position_in_link) - np.array([0.0, 0.0, box.size[2]])
+        np.testing.assert_allclose(bottom, frame.position_in_link, rtol=0, atol=1e-12)
+        assert box.size[:2] == SOLE_HALF_EXTENTS
+    soles = model.frame_positions_world(state, ["left_sole", "right_sole"])
+    assert np.abs(soles[:, 2]).max() < 1e-4  # standing: both soles on the ground
+
+
+def test_the_half_sitting_com_is_inside_the_support_polygon(robot, model):
+    state = model.standing_state()
+    com = model.com_position_world(state)[:2]
+    corners = []
+    for side in ("left", "right"):
+        position = model.frame_positions_world(state, [f"{side}_sole"])[0, :2]
+        for dx in (-1, 1):
+            for dy in (-1, 1):
+                corners.append(position + np.array(SOLE_HALF_EXTENTS) * (dx, dy))
+    hull = ConvexHull(np.array(corners))
+    inside = hull.equations[:, :2] @ com + hull.equations[:, 2]
+    assert inside.max() < -0.05  # more than 5 cm inside every edge
+
+
+def test_static_torques_of_the_half_sitting_are_below_the_limits(robot, model):
+    """The torques that hold the half-sitting posture on both soles: under a tenth of every
+    limit (the limits by similarity from the humanoid's, `robots.jvrc1.torque_limits`)."""
+    torques = model.static_torques(model.standing_state(), ["left_sole", "right_sole"])
+    assert np.all(np.abs(torques) < 0.1 * robot.array("torque_limit"))
+    assert np.abs(torques).max() > 5.0  # the knees and the waist do carry the body
+
+
+def test_committed_collision_boxes_are_the_installed_meshes_bounding_boxes():
+    assert urdf_collision_boxes(urdf_path()) == BOXES
+
+
+def test_the_registry_answers_unknown_names_and_keeps_jvrc1_at_one_size():
+    assert set(ROBOTS) == {"centrobench_humanoid", "jvrc1"}
+    with pytest.raises(KeyError, match="centrobench_humanoid, jvrc1"):
+        robot_entry("atlas")
+    with pytest.raises(ValueError, match="one size"):
+        make_robot("jvrc1", 1.2)
+    assert make_robot("jvrc1") is jvrc1()
+    assert make_robot("centrobench_humanoid", 1.2).scale == 1.2
+
+
+@pytest.mark.parametrize("sim", ["mujoco", "pybullet"])
+def test_jvrc1_stands_with_its_weight_on_the_feet(robot, sim):
+    """5 s of `stand` with Murooka's pair: no fall, and over the last second the feet's
+    measured vertical forces sum to m g within 1 %."""
+    result = run_controller(
+        "preview_control+centroidal_feedback", sim, "stand", duration=5.0, robot="jvrc1"
+    )
+    assert result.summary["status"] == "ok", result.summary["error"]
+    assert not result.summary["fell"]
+    assert result.summary["robot"] == "jvrc1"
+    trace = result.trace
+    last = trace[trace["time"] > trace["time"].max() - 1.0]
+    feet = last["wrench_measured_left_foot_fz"] + last["wrench_measured_right_foot_fz"]
+    assert feet.mean() == pytest.approx(robot.total_mass * GRAVITY, rel=0.01)
