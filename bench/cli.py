@@ -394,6 +394,7 @@ def build_parser() -> argparse.ArgumentParser:
         help=f"simulated seconds, {CONTROL_PERIOD_S:g} to {MAX_EPISODE_SECONDS:g} (default 3)",
     )
     demo.add_argument("--scale", type=_scale("--scale"), default=1.0, help="length scale")
+    _add_robot(demo)
 
     sweep = commands.add_parser(
         "sweep",
@@ -867,12 +868,11 @@ def _list(args: argparse.Namespace) -> int:
 
 
 def _demo(args: argparse.Namespace) -> int:
-    from robots.humanoid import humanoid
     from robots.model import RobotModel
     from robots.scene import Scene
     from sims.base import make_simulator
 
-    robot = humanoid(args.scale)
+    robot = _robot_of(args, args.scale)
     model = RobotModel(robot)
     initial = model.standing_state()
     command = model.hold_command(initial)

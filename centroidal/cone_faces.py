@@ -20,6 +20,8 @@ from scipy.spatial import ConvexHull, QhullError
 
 _THROUGH_ORIGIN = 1e-9  # facet offset (for unit generators) below which it contains the origin
 _SAME_FACE = 1e-7  # unit normals closer than this are one facet
+_HOLDS = 1e-9  # largest F g of a unit generator g: every generator is inside every face
+_WIDE_MERGE = "Qx Q12"  # scipy adds its defaults (Qbb Qc Qt); Q12: merge wide dupridges
 
 
 def cone_faces(generators: np.ndarray) -> np.ndarray:
@@ -50,8 +52,16 @@ def _faces_of_exact(shape: tuple[int, int], data: bytes) -> np.ndarray:
     points = np.vstack([np.zeros(dimension), unit.T])
     try:
         hull = ConvexHull(points)
-    except QhullError as exc:  # pragma: no cover - rank was checked; Qhull's own degeneracies
-        raise ValueError(f"Qhull could not enumerate the cone's faces: {exc}") from exc
+    except QhullError:
+        # Many generators lie on each facet through the origin, and Qhull can stop at a
+        # "dupridge" it cannot merge within its default bound (JVRC-1's two soles, measured):
+        # option Q12 lets it merge wider; the faces it gives are then checked to hold every
+        # generator (below). The first attempt keeps Qhull's defaults so that cones it could
+        # enumerate before give the same faces.
+        try:
+            hull = ConvexHull(points, qhull_options=_WIDE_MERGE)
+        except QhullError as exc:
+            raise ValueError(f"Qhull could not enumerate the cone's faces: {exc}") from exc
     normals, offsets = hull.equations[:, :dimension], hull.equations[:, dimension]
     through_origin = np.abs(offsets) < _THROUGH_ORIGIN
     if not np.any(through_origin):  # the origin is interior: the cone is the whole space
@@ -65,4 +75,11 @@ def _faces_of_exact(shape: tuple[int, int], data: bytes) -> np.ndarray:
     for i in range(len(faces)):
         if not kept or distance[i, kept].min() >= _SAME_FACE:
             kept.append(i)
-    return faces[kept]
+    faces = faces[kept]
+    outside = float((faces @ unit).max()) if len(faces) else 0.0
+    if outside > _HOLDS:
+        raise ValueError(
+            f"Qhull's faces leave a generator {outside:.1e} outside the cone (more than "
+            f"{_HOLDS:g}): no face form"
+        )
+    return faces

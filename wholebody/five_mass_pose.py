@@ -80,8 +80,9 @@ def inertia_axis_jacobian(
 
 
 def knee_indices(model: RobotModel) -> dict[str, int]:
-    """Per foot limb, the index (in joint order) of the knee on its chain: the joint named
-    *knee between the base and the foot. ValueError naming the foot without one."""
+    """Per foot limb, the index (in joint order) of the knee on its chain: the joint whose
+    name contains "knee" in any case (the humanoid's `left_knee`, JVRC-1's `L_KNEE`) between the
+    base and the foot. ValueError naming the foot without one."""
     robot = model.robot
     parent_joint = {j.child: j for j in robot.joints}
     result = {}
@@ -91,7 +92,7 @@ def knee_indices(model: RobotModel) -> dict[str, int]:
         link, knee = limb.link, None
         while link in parent_joint:
             joint = parent_joint[link]
-            if "knee" in joint.name:
+            if "knee" in joint.name.lower():
                 knee = joint.name
             link = joint.parent
         if knee is None:

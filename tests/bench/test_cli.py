@@ -92,9 +92,11 @@ def test_missing_simulator_package_names_the_extra(monkeypatch, capsys):
     assert "pip install 'centrobench[mujoco]'" in err[0]
 
 
-def test_demo_stands_in_both_simulators(capsys):
-    assert main(["demo", "--duration", "0.5"]) == 0
+@pytest.mark.parametrize("robot", ["centrobench_humanoid", "jvrc1"])
+def test_demo_stands_in_both_simulators(capsys, robot):
+    assert main(["demo", "--duration", "0.5", "--robot", robot]) == 0
     out = capsys.readouterr().out.splitlines()
+    assert out[0].startswith(robot)
     rows = {line.split()[0]: line.split() for line in out[2:]}
     assert set(rows) == {"mujoco", "pybullet"}
     for row in rows.values():

@@ -105,3 +105,30 @@ def test_a_grasps_cone_is_the_whole_space_and_has_no_faces():
     for wrench in rng.normal(size=(20, 6)) * [100, 100, 100, 10, 10, 10]:
         _, residual = nnls(generators, wrench)
         assert residual < 1e-6 * np.linalg.norm(wrench)
+
+
+def test_a_cone_qhull_stops_on_by_default_gets_its_faces_with_wider_merges():
+    """JVRC-1's two soles in a walk (the generators `linear_mpc` built at 0-3 s in MuJoCo, kept
+    in tests/data): Qhull's default options stop at a "dupridge"; `cone_faces` retries with
+    option Q12, checks that every ridge satisfies every face, and its faces agree with the
+    independent membership test (NNLS on the ridges)."""
+    from pathlib import Path
+
+    from scipy.spatial import ConvexHull, QhullError
+
+    g = np.load(Path(__file__).parents[1] / "data" / "jvrc1_dupridge_cone.npy")
+    unit = g / np.linalg.norm(g, axis=0)
+    with pytest.raises(QhullError, match="dupridge"):
+        ConvexHull(np.vstack([np.zeros(6), unit.T]))
+    faces = cone_faces(g)
+    assert np.max(faces @ g) <= 1e-9
+    rng = np.random.default_rng(5)
+    agree = inside = 0
+    for _ in range(400):
+        wrench = g @ rng.uniform(0.0, 1.0, g.shape[1]) * 50.0 + rng.normal(size=6) * 30.0
+        _, residual = nnls(g, wrench)
+        in_cone = residual < 1e-7 * np.linalg.norm(wrench)
+        inside += in_cone
+        agree += _inside(faces, wrench) == in_cone
+    assert 40 < inside < 360
+    assert agree == 400
