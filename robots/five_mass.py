@@ -54,18 +54,25 @@ class FiveMass:
 
 
 def chain_roots(model: RobotModel) -> dict[str, int]:
-    """Per limb group, the pinocchio joint id where the limb's chain leaves the base link (the
-    root of the subtree that is the group). ValueError if the robot lacks one of the limbs."""
+    """Per limb group, the pinocchio joint id where the limb's own chain begins: the topmost
+    joint between the base and the limb that no other limb's chain passes through (the root
+    of the subtree that is the group). On a robot whose limbs all leave the base link (the
+    humanoid) it is the joint at the base; on one with a waist (JVRC-1) the arms begin at the
+    shoulders, and the waist's links are the torso's, as "whatever else is not a limb" (the
+    joint where the chain leaves the base, the waist, had put the whole upper body into each
+    arm). ValueError if the robot lacks one of the limbs."""
     pin_model = model.model
-    roots = {}
+    chains = {}
     for limb in model.robot.limbs:
         group = _LIMB_GROUP.get(limb.name)
         if group is None:
             continue
         joint = pin_model.frames[model.frame_id[limb.link]].parentJoint
-        while pin_model.parents[joint] > 1:  # joint 1 is the free flyer
-            joint = pin_model.parents[joint]
-        roots[group] = joint
+        chains[group] = [j for j in pin_model.supports[joint] if j > 1]  # 1: the free flyer
+    roots = {}
+    for group, chain in chains.items():
+        shared = {j for other, joints in chains.items() if other != group for j in joints}
+        roots[group] = next(j for j in chain if j not in shared)
     missing = [g for g in GROUPS[1:] if g not in roots]
     if missing:
         raise ValueError(f"robot {model.robot.name!r} has no limb for {', '.join(missing)}")

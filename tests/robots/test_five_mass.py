@@ -98,3 +98,28 @@ def test_jacobians_of_the_masses_and_of_the_inertia_axis_match_finite_difference
         np.testing.assert_allclose(
             axis_change, axis_jacobian @ dv, atol=1e-3 * np.abs(axis_change).max() + 1e-12
         )
+
+
+def test_on_a_robot_with_a_waist_the_arms_begin_at_the_shoulders():
+    """JVRC-1's arms leave the pelvis through its 3-DoF waist: each arm group is the links from
+    its shoulder down (not the waist's subtree, which holds both arms and the head), and the
+    waist's links and the head are the torso's; the five masses still sum to the robot."""
+    from robots.jvrc1 import jvrc1
+
+    model = RobotModel(jvrc1())
+    five_model = FiveMassModel(model)
+    roots = {group: model.model.names[joint] for group, joint in five_model.roots.items()}
+    assert roots == {
+        "left_leg": "L_HIP_P",
+        "right_leg": "R_HIP_P",
+        "left_arm": "L_SHOULDER_P",
+        "right_arm": "R_SHOULDER_P",
+    }
+    five = five_model.evaluate(model.configuration(model.standing_state()))
+    links = {link.name: link.inertial.mass for link in model.robot.links}
+    arm = sum(m for n, m in links.items() if n.startswith("L_") and "HIP" not in n and "KNEE"
+              not in n and "ANKLE" not in n)  # fmt: skip
+    torso = links["PELVIS_S"] + links["WAIST_Y_S"] + links["WAIST_P_S"] + links["WAIST_R_S"]
+    assert five.mass[GROUPS.index("left_arm")] == pytest.approx(arm, abs=1e-12)
+    assert five.mass[0] == pytest.approx(torso, abs=1e-12)
+    assert five.mass.sum() == pytest.approx(62.4, abs=1e-12)
