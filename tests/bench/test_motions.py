@@ -18,6 +18,17 @@ DT = 0.002
 GRAVITY = 9.81
 
 
+def _grasp_contact(scenario, grasp):
+    """The contact that a scene `Grasp` realises: its limb's, in the phase it starts with."""
+    return next(
+        c
+        for p in scenario.phases
+        if p.start == pytest.approx(grasp.start)
+        for c in p.contacts
+        if c.limb == grasp.limb
+    )
+
+
 def _check_phases_cover(scenario):
     assert scenario.phases[0].start == 0.0
     for a, b in zip(scenario.phases, scenario.phases[1:], strict=False):
@@ -256,13 +267,7 @@ def test_handrail_stairs_steps_on_the_treads_and_grasps_the_rails(scale):
             assert np.sign(phase.com_offset_world[1]) == -np.sign(feet[0].position_world[1])
     assert scenario.scene.grasps
     for grasp in scenario.scene.grasps:
-        contact = next(
-            c
-            for p in scenario.phases
-            if p.start == pytest.approx(grasp.start)
-            for c in p.contacts
-            if c.limb == grasp.limb
-        )
+        contact = _grasp_contact(scenario, grasp)
         assert contact.grasp
         rail = boxes[grasp.box]
         assert grasp.box.startswith(f"rail_{grasp.limb.split('_')[0]}")
@@ -449,13 +454,7 @@ def test_ladder_stands_on_the_rungs_on_its_toes_and_grasps_the_rungs(scale):
             assert foot.position_world[2] == pytest.approx(3 * spacing)
     assert len(scenario.scene.grasps) == 8  # the first grasps and three moves of each hand
     for grasp in scenario.scene.grasps:
-        contact = next(
-            c
-            for p in scenario.phases
-            if p.start == pytest.approx(grasp.start)
-            for c in p.contacts
-            if c.limb == grasp.limb
-        )
+        contact = _grasp_contact(scenario, grasp)
         assert contact.grasp
         rung = boxes[grasp.box]
         assert contact.position_world[0] == pytest.approx(
