@@ -201,7 +201,7 @@ def _merge_locked(inertials: dict[str, Inertial], joints: list[dict]):
     """Bodies after locking: every link reached from PELVIS_S through actuated joints is a body;
     links hanging from it by fixed or locked joints (at their zero angle: a translation) are
     merged into it. Returns per body the parts (original link, offset [m] in the body frame)
-    and the actuated joints in the URDF's order."""
+    and the actuated joints in the URDF's order, each from the body its parent link is in."""
     children: dict[str, list[dict]] = {}
     for joint in joints:
         children.setdefault(joint["parent"], []).append(joint)
@@ -212,7 +212,9 @@ def _merge_locked(inertials: dict[str, Inertial], joints: list[dict]):
         parts.setdefault(body, []).append((link, offset))
         for joint in children.get(link, []):
             if joint["type"] == "revolute" and joint["name"] not in LOCKED_JOINTS:
-                actuated.append(joint)
+                # re-parented onto the body the link was merged into (a no-op unless a locked
+                # joint lies between two actuated ones)
+                actuated.append({**joint, "parent": body, "xyz": offset + joint["xyz"]})
                 visit(joint["child"], joint["child"], np.zeros(3))
             else:  # fixed, or locked at zero: the child moves with this body
                 visit(joint["child"], body, offset + joint["xyz"])

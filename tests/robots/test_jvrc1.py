@@ -123,3 +123,31 @@ def test_jvrc1_stands_with_its_weight_on_the_feet(robot, sim):
     last = trace[trace["time"] > trace["time"].max() - 1.0]
     feet = last["wrench_measured_left_foot_fz"] + last["wrench_measured_right_foot_fz"]
     assert feet.mean() == pytest.approx(robot.total_mass * GRAVITY, rel=0.01)
+
+
+def test_locking_a_joint_between_actuated_ones_keeps_the_kinematics(monkeypatch):
+    """Locking the waist too (an experiment the adapter allows) re-parents the shoulders onto
+    the pelvis: 26 joints, the same mass, and in the zero posture every frame where the
+    29-joint model puts it."""
+    import robots.jvrc1 as module
+    from robots.types import RobotState
+
+    full = module.jvrc1()
+    monkeypatch.setattr(
+        module, "LOCKED_JOINTS", module.LOCKED_JOINTS | {"WAIST_Y", "WAIST_P", "WAIST_R"}
+    )
+    monkeypatch.setattr(module, "HALF_SITTING", {**module.HALF_SITTING, "WAIST_P": 0.0})
+    module.jvrc1.cache_clear()
+    try:
+        locked = module.jvrc1()
+    finally:
+        module.jvrc1.cache_clear()
+    assert locked.n_joints == 26
+    assert locked.total_mass == pytest.approx(full.total_mass, rel=1e-12)
+    assert locked.joints[locked.joint_names.index("L_SHOULDER_P")].parent == "PELVIS_S"
+    names = [frame.name for frame in full.frames]
+    positions = []
+    for robot in (full, locked):
+        zero = RobotState.at_rest(np.zeros(3), np.array([1.0, 0, 0, 0]), np.zeros(robot.n_joints))
+        positions.append(RobotModel(robot).frame_positions_world(zero, names))
+    np.testing.assert_allclose(positions[1], positions[0], rtol=0, atol=1e-12)
