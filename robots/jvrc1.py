@@ -22,7 +22,8 @@ The adapter, and the source of everything it adds to the URDF:
   foot's box is the sole's rectangle (so that the simulators' support polygon is the one the
   controllers use), from the sole down to the mesh's top.
 - Nominal posture: mc_rtc's half-sitting (`default_q` of src/mc_robots/jvrc1.cpp).
-- Servo gains and torque limits: `JOINT_SERVO` below, with their sources.
+- Servo gains and torque limits: `_SOURCE_SERVO` below, with their sources, adapted by
+  `servo_gains_without_rotor_inertia` and `torque_limits`.
 """
 
 from __future__ import annotations
@@ -38,6 +39,7 @@ import numpy as np
 from robots.humanoid import FALL_HEIGHT_M, HIP_TO_SOLE_M, NOMINAL_MASS_KG, torque_limit_at_scale_1
 from robots.inertia import combined_inertial
 from robots.jvrc1_shapes import BOXES
+from robots.scene import Scene
 from robots.spec import Frame, Geometry, Inertial, Joint, Limb, Link, RobotDescription
 
 PACKAGE = "jvrc_description"
@@ -69,8 +71,8 @@ GRIPPER_IN_WRIST = (0.0, 0.0085, -0.095)
 IMU_IN_PELVIS = (-0.0325, 0.0, 0.1095)
 """mc_rtc's `Accelerometer` body sensor on PELVIS_S [m]."""
 
-PHYSICS_DT = 0.001
-"""[s] the physics step the servo gains are made stable for (`robots.scene.Scene.physics_dt`)."""
+PHYSICS_DT = Scene.physics_dt
+"""[s] the physics step the servo gains are made stable for (every scene's default)."""
 _FOOT_LINKS = {"left": "L_ANKLE_P_S", "right": "R_ANKLE_P_S"}
 _HAND_LINKS = {"left": "L_WRIST_Y_S", "right": "R_WRIST_Y_S"}
 
@@ -246,7 +248,7 @@ def _depth_first(actuated: list[dict]) -> list[dict]:
     return ordered
 
 
-def _geometries(body: str, parts: list[tuple[str, np.ndarray]]) -> tuple[Geometry, ...]:
+def _geometries(parts: list[tuple[str, np.ndarray]]) -> tuple[Geometry, ...]:
     """The fitted boxes of a body's links, placed in the body frame; a foot's own box is
     replaced by its sole's rectangle from the sole up to the mesh's top."""
     shapes = []
@@ -286,9 +288,7 @@ def jvrc1() -> RobotDescription:
         Link(body, combined_inertial([(inertials[n], o) for n, o in parts[body]]), ())
         for body in ["PELVIS_S", *[j["child"] for j in ordered]]
     ]
-    links = [
-        Link(link.name, link.inertial, _geometries(link.name, parts[link.name])) for link in links
-    ]
+    links = [Link(link.name, link.inertial, _geometries(parts[link.name])) for link in links]
     mass = sum(link.inertial.mass for link in links)
     hip_to_sole = _hip_to_sole(joints)
     description_joints = []
