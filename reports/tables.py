@@ -16,6 +16,8 @@ from collections.abc import Mapping
 import numpy as np
 import pandas as pd
 
+from reports.statistics import fraction_cell, wilson_interval
+
 KEYS = ["controller", "sim"]
 TABLE_IV_STAGES = (
     "centroidal_control",  # Table IV's "Total control" (planner + stabilizer)
@@ -108,16 +110,18 @@ def paper_latency_table(episodes: pd.DataFrame) -> pd.DataFrame:
 
 def survival_table(episodes: pd.DataFrame, phase: str = "standing") -> pd.DataFrame:
     """Ficht & Behnke Table 2: rows controller x simulator, a column per level (dv, and the
-    impulse in N s for this robot), cells "survived/pushes" over the episodes that ended "ok"
-    or "fell"; the episodes that ended in an error or a timeout say nothing about the
-    controller and are counted in their own column, "not judged"."""
+    impulse in N s for this robot), cells "survived/pushes (95 % Wilson interval)" over the
+    episodes that ended "ok" or "fell" (`reports.statistics.fraction_cell`); the episodes
+    that ended in an error or a timeout say nothing about the controller and are counted in
+    their own column, "not judged"."""
     rows = pushes(episodes, phase)
     if rows.empty:
         return pd.DataFrame(columns=KEYS)
     rates = survival_rates(episodes, phase)
     impulses = rows.groupby("push_dv_mps")["push_impulse_Ns"].mean()
+    counts = zip(rates["survived"], rates["pushes"], strict=True)
     cells = (
-        rates.assign(cell=rates["survived"].astype(str) + "/" + rates["pushes"].astype(str))
+        rates.assign(cell=[fraction_cell(k, n) for k, n in counts])
         .set_index([*KEYS, "push_dv_mps"])["cell"]
         .unstack()
     )
@@ -134,7 +138,8 @@ def survival_table(episodes: pd.DataFrame, phase: str = "standing") -> pd.DataFr
 
 def survival_rates(episodes: pd.DataFrame, phase: str = "standing") -> pd.DataFrame:
     """Long form of the survival table over the judged episodes ("ok" or "fell"):
-    controller, sim, dv, impulse, survived, pushes, rate, and `not_judged` (error, timeout)."""
+    controller, sim, dv, impulse, survived, pushes, rate with its 95 % Wilson interval
+    (rate_low, rate_high), and `not_judged` (error, timeout)."""
     rows = pushes(episodes, phase)
     judged = rows["status"].isin(JUDGED)
     grouped = rows.assign(
@@ -149,6 +154,10 @@ def survival_rates(episodes: pd.DataFrame, phase: str = "standing") -> pd.DataFr
         not_judged=("not_judged", "sum"),
     ).reset_index()
     table["rate"] = table["survived"] / table["pushes"].where(table["pushes"] > 0)
+    counts = zip(table["survived"], table["pushes"], strict=True)
+    intervals = [wilson_interval(k, n) for k, n in counts]
+    table["rate_low"] = [low for low, _ in intervals]
+    table["rate_high"] = [high for _, high in intervals]
     return table
 
 

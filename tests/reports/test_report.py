@@ -13,6 +13,7 @@ import pytest
 from bench.dataset import ROW_SCHEMA, ResultStore
 from reports import tables
 from reports.build import build_report
+from reports.statistics import fraction_cell, wilson_interval
 
 CONTROLLERS = ("a+x", "b+y")
 SIMS = ("mujoco", "pybullet")
@@ -122,7 +123,7 @@ def test_survival_table_counts_the_fixture(results):
     assert labels == ["0.2 m/s (10.0 N s)", "0.4 m/s (20.0 N s)"]
     for _, row in table.iterrows():
         expected = SURVIVED[(row["controller"], row["sim"])]
-        assert [row[label] for label in labels] == [f"{k}/{PUSHES}" for k in expected]
+        assert [row[label] for label in labels] == [fraction_cell(k, PUSHES) for k in expected]
         assert row["not judged"] == ""
 
 
@@ -152,10 +153,13 @@ def test_errors_and_timeouts_are_not_counted_as_failed_pushes():
         [True, True, True, False, None, None, False],  # an old error row said False
     )
     table = tables.survival_table(rows, "standing")
-    assert table.loc[0, "0.2 m/s (10.0 N s)"] == "3/4"  # 3 survived of the 4 judged
+    # 3 survived of the 4 judged; Wilson: centre (0.75 + 0.4802) / 1.9604 = 0.6275, half-width
+    # 1.96 sqrt(0.046875 + 0.060023) / 1.9604 = 0.3269: 0.301-0.954
+    assert table.loc[0, "0.2 m/s (10.0 N s)"] == "3/4 (30-95 %)"
     assert table.loc[0, "not judged"] == "2 error, 1 timeout"
     rates = tables.survival_rates(rows, "standing")
     assert rates.loc[0, "rate"] == pytest.approx(0.75)
+    assert (rates.loc[0, "rate_low"], rates.loc[0, "rate_high"]) == wilson_interval(3, 4)
     assert rates.loc[0, "not_judged"] == 3
 
 
@@ -440,7 +444,7 @@ def test_several_result_directories_make_one_report(results, tmp_path: Path):
     table = tables.survival_table(episodes, "standing")
     labels = [tables.level_label(dv, MASS * dv) for dv in LEVELS]
     row = table[table["controller"] == "c+z"].iloc[0]
-    assert [row[label] for label in labels] == [f"{k}/{PUSHES}" for k in survived]
+    assert [row[label] for label in labels] == [fraction_cell(k, PUSHES) for k in survived]
     assert len(table) == len(SURVIVED) + 1
     walks = _walk_traces(episodes, [])
     assert any(label.startswith("c+z (mujoco") for label in walks)

@@ -1,0 +1,95 @@
+"""The report's statistics against values computed by hand (and scipy's exact test)."""
+
+from __future__ import annotations
+
+import math
+
+import pandas as pd
+import pytest
+from scipy import stats
+
+from reports.statistics import (
+    fraction_cell,
+    paired_table,
+    paired_test,
+    robust_threshold,
+    simulator_band,
+    wilson_interval,
+)
+
+Z = 1.959963984540054  # the 97.5 % normal quantile
+
+
+@pytest.mark.parametrize(
+    ("survived", "trials", "low", "high"),
+    [
+        # p = 0.7, z^2 = 3.8415: centre (0.7 + 0.09604) / 1.19207 = 0.66777, half-width
+        # 1.95996 sqrt(0.0105 + 0.0024009) / 1.19207 = 0.18675
+        (14, 20, 0.48102718, 0.85452276),
+        (20, 20, 20 / (20 + Z**2), 1.0),  # k = n: low = n / (n + z^2)
+        (0, 20, 0.0, Z**2 / (20 + Z**2)),  # k = 0: high = z^2 / (n + z^2)
+        (3, 5, 0.23072428, 0.88237923),
+    ],
+)
+def test_wilson_interval_equals_the_hand_computed_one(survived, trials, low, high):
+    assert wilson_interval(survived, trials) == pytest.approx((low, high), abs=5e-9)
+
+
+def test_wilson_interval_without_trials_is_nan_and_bad_counts_are_refused():
+    assert all(math.isnan(x) for x in wilson_interval(0, 0))
+    with pytest.raises(ValueError, match="survived must be in"):
+        wilson_interval(21, 20)
+
+
+def test_fraction_cell_shows_the_interval_in_percent():
+    assert fraction_cell(14, 20) == "14/20 (48-85 %)"
+    assert fraction_cell(20, 20) == "20/20 (84-100 %)"
+    assert fraction_cell(0, 0) == "0/0"
+
+
+def test_robust_threshold_is_the_last_level_before_the_first_with_fewer_than_4_of_5():
+    T, F = True, False
+    levels = {
+        0.2: [T, T, T, T, T],
+        0.3: [T, T, T, T, F],  # 4 of 5: still robust
+        0.4: [T, T, F, F, T],  # 3 of 5: the threshold stops below
+        0.5: [T, T, T, T, T],  # survived again, but above a failed level
+    }
+    assert robust_threshold(levels) == 0.3
+    assert robust_threshold({0.2: [T, F, F, T, T], 0.3: [T] * 5}) is None
+    assert robust_threshold({0.2: [T] * 5, 0.3: [T] * 5}) == 0.3
+    with pytest.raises(ValueError, match=r"level 0\.3 has 4 judged replicas"):
+        robust_threshold({0.2: [T] * 5, 0.3: [T] * 4})
+
+
+def test_paired_test_counts_the_discordant_pushes_and_equals_scipys_exact_test():
+    a = [True] * 9 + [False] * 3
+    b = [True, True] + [False] * 7 + [True, False, False]
+    result = paired_test(a, b)
+    assert (result["only_a"], result["only_b"], result["both"], result["neither"]) == (7, 1, 2, 2)
+    # by hand: 2 (C(8,7) + C(8,8)) / 2^8 = 18 / 256
+    assert result["p_value"] == pytest.approx(18 / 256, rel=1e-12)
+    assert result["p_value"] == pytest.approx(stats.binomtest(7, 8, 0.5).pvalue, rel=1e-12)
+    assert paired_test([True, False], [True, False])["p_value"] == 1.0
+    with pytest.raises(ValueError, match="differ in length"):
+        paired_test([True], [True, False])
+
+
+def test_paired_table_pairs_only_the_pushes_both_controllers_were_judged_on():
+    rows = []
+    for push in range(6):
+        rows.append({"sim": "mujoco", "controller": "a", "push": push, "survived": True})
+        if push < 5:  # b has no judged episode for push 5
+            rows.append({"sim": "mujoco", "controller": "b", "push": push, "survived": push < 2})
+    table = paired_table(pd.DataFrame(rows), pair_keys=["push"])
+    assert len(table) == 1
+    row = table.iloc[0]
+    assert (row["controller A"], row["controller B"], row["pushes"]) == ("a", "b", 5)
+    assert (row["only A"], row["only B"]) == (3, 0)
+    assert row["p"] == pytest.approx(2 / 8)  # 2 x (1/2)^3
+
+
+def test_simulator_band_spans_the_finite_values():
+    assert simulator_band({"mujoco": 0.7, "pybullet": 0.55}) == (0.55, 0.7)
+    assert simulator_band({"mujoco": 0.7, "pybullet": float("nan")}) == (0.7, 0.7)
+    assert all(math.isnan(x) for x in simulator_band({"mujoco": None}))
