@@ -36,6 +36,8 @@ from bench.limits import (
     TIMEOUT_PER_SIM_MAX,
     valid_name,
 )
+from bench.push_protocol import MAX_REPLICAS
+from bench.robustness import DIMENSIONS, EXAMPLES
 from estimators import DEFAULT_ESTIMATOR
 from sims.base import SIMULATORS, MissingDependencyError
 
@@ -137,6 +139,36 @@ def _names(kind: str, what: str) -> Callable[[str], list[str]]:
     """An argparse type: a comma-separated list of at least one name (checked later against
     the registry, which lists the valid ones)."""
     return _listed(kind, str, what)
+
+
+def _robustness_values(
+    kind: str, integer: bool, allow_groups: bool = False
+) -> Callable[[str], list[tuple[str | None, float]]]:
+    """An argparse type: a comma-separated list of magnitudes (integers if `integer`), and
+    with `allow_groups` entries GROUP=X too (a noise group: encoders, imu, ft); each as
+    (group or None, value). The ranges are checked with the spec (`bench.robustness`)."""
+
+    def item(text: str) -> tuple[str | None, float]:
+        group, _, value = text.rpartition("=")
+        if group and not allow_groups:
+            raise argparse.ArgumentTypeError(f"{kind} takes numbers, got {text!r}")
+        if group and group not in NOISE_GROUPS:
+            raise argparse.ArgumentTypeError(
+                f"{kind}: unknown sensor group {group!r}; groups: {', '.join(NOISE_GROUPS)}"
+            )
+        what = "integers" if integer else "numbers"
+        try:
+            number = int(value) if integer else float(value)
+        except ValueError:
+            raise argparse.ArgumentTypeError(f"{kind} must list {what}, got {text!r}") from None
+        if not np.isfinite(number):
+            raise argparse.ArgumentTypeError(f"{kind} must list finite {what}, got {text!r}")
+        return (group or None, number)
+
+    return _listed(kind, item, "magnitudes")
+
+
+NOISE_GROUPS = ("encoders", "imu", "ft")
 
 
 def _seed(kind: str) -> Callable[[str], int]:
@@ -512,6 +544,29 @@ def build_parser() -> argparse.ArgumentParser:
         "episode ends as 'timeout'",
     )
     sweep.add_argument("--no-progress", action="store_true", help="no progress bar")
+    sweep.add_argument(
+        "--push-replicas",
+        type=_integer("--push-replicas", 1, MAX_REPLICAS),
+        help=f"trials of every push, 1 to {MAX_REPLICAS} (default 1); replicas after the first "
+        "start with a small seeded change (the robust threshold takes 4 of 5)",
+    )
+    robustness = sweep.add_argument_group(
+        "robustness dimensions (bench/robustness.py): each a comma-separated list of "
+        "magnitudes, varied one dimension at a time around the nominal episode"
+    )
+    for dimension, (_fields, integer, *_rest, accepts) in DIMENSIONS.items():
+        flag = "--" + dimension.replace("_", "-")
+        example = EXAMPLES[dimension] + (",imu=4" if dimension == "noise" else "")
+        extra = (
+            "; an entry GROUP=X sets one group (encoders, imu, ft)" if dimension == "noise" else ""
+        )
+        robustness.add_argument(
+            flag,
+            type=_robustness_values(flag, integer, allow_groups=dimension == "noise"),
+            dest=f"robustness_{dimension}",
+            metavar="LIST",
+            help=f"{accepts}, e.g. {flag} {example}{extra}",
+        )
 
     speed = commands.add_parser(
         "speed",
@@ -943,8 +998,18 @@ def _sweep_mapping(args: argparse.Namespace) -> dict:
         if value is not None:
             push = push if isinstance(push, dict) else {}
             push[key] = value
+    if args.push_replicas is not None:
+        push = push if isinstance(push, dict) else {}
+        push["replicas"] = args.push_replicas
     if push is not None:
         data["push"] = push
+    overrides: dict[str, list[float]] = {}  # a flag replaces the spec's list of its dimension
+    for dimension in DIMENSIONS:
+        for group, value in getattr(args, f"robustness_{dimension}", None) or []:
+            overrides.setdefault(dimension if group is None else f"noise_{group}", []).append(value)
+    if overrides:
+        table = dict(data["robustness"]) if isinstance(data.get("robustness"), dict) else {}
+        data["robustness"] = {**table, **overrides}
     return data
 
 

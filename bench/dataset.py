@@ -35,6 +35,7 @@ import pyarrow.parquet as pq
 
 from bench.limits import CONTROL_PERIOD_S
 from bench.metrics import feedback_magnitude, walking_quality
+from robots.perturbation import PERTURBATION_FIELDS
 
 LATENCY_STAGES = (
     "estimator",
@@ -76,6 +77,9 @@ ROW_SCHEMA = pa.schema(
         ("push_step", _INT),
         ("push_impulse_Ns", _FLOAT),
         ("push_direction_deg", _FLOAT),
+        ("replica", _INT),
+        ("perturbation", _STRING),
+        *[(name, _INT if name.endswith("delay") else _FLOAT) for name in PERTURBATION_FIELDS],
         ("status", _STRING),
         ("error", _STRING),
         ("error_stage", _STRING),
@@ -155,6 +159,9 @@ def summary_row(
         "friction",
         "speed",
         "mass_kg",
+        "replica",
+        "perturbation",
+        *PERTURBATION_FIELDS,
         "status",
         "error",
         "error_stage",

@@ -36,6 +36,7 @@ from bench.scenarios import WALK_STEPS
 from robots.robot_registry import DEFAULT_ROBOT, make_robot
 
 PHASES = ("standing", "walking")
+MAX_REPLICAS = 100
 PUSH_DURATION = 0.1  # [s] Ficht & Behnke's pushes; our scenarios' default
 _EPISODE = (
     f"standing_push_time + {PUSH_DURATION:g} s + survival_time at most {MAX_EPISODE_SECONDS:g} s"
@@ -49,6 +50,8 @@ _FIELDS = {
     "standing_push_time": f"a non-negative number of seconds, the push start ({_EPISODE})",
     "walking_push_step": f"an integer in [1, {WALK_STEPS}] (the walk's single-support phase "
     "pushed mid-way)",
+    "replicas": f"a positive integer, at most {MAX_REPLICAS} (trials of every push, each but "
+    "the first with a small seeded change of the initial state and the push time)",
 }
 
 
@@ -61,6 +64,7 @@ class PushProtocol:
     survival_time: float = 3.0
     standing_push_time: float = 1.5
     walking_push_step: int = 3
+    replicas: int = 1  # trials per push (`bench.runner.replica_changes`)
 
     @classmethod
     def from_mapping(cls, data: dict[str, Any]) -> PushProtocol:
@@ -91,6 +95,7 @@ class PushProtocol:
         count = _integer("count", data.get("count", 20), 1, MAX_PUSH_COUNT)
         seed = _integer("seed", data.get("seed", 0), 0, SEED_LIMIT - 1)
         step = _integer("walking_push_step", data.get("walking_push_step", 3), 1, WALK_STEPS)
+        replicas = _integer("replicas", data.get("replicas", 1), 1, MAX_REPLICAS)
         survival = _number("survival_time", data.get("survival_time", 3.0), strict=True)
         push_time = _number("standing_push_time", data.get("standing_push_time", 1.5))
         if push_time + PUSH_DURATION + survival > MAX_EPISODE_SECONDS:
@@ -108,6 +113,7 @@ class PushProtocol:
             survival_time=survival,
             standing_push_time=push_time,
             walking_push_step=step,
+            replicas=replicas,
         )
 
     def directions_deg(self) -> np.ndarray:
@@ -174,11 +180,13 @@ def push_episodes(protocol: PushProtocol, common: dict[str, Any]) -> Iterator[tu
         for dv in protocol.dv:
             for index, direction in enumerate(directions):
                 labels = {"push_phase": phase, "push_dv_mps": dv, "push_index": index}
-                yield (
-                    labels,
-                    replace(
-                        base,
-                        push_impulse=round(mass * dv, 9),
-                        push_direction_deg=round(float(direction), 9),
-                    ),
-                )
+                for replica in range(protocol.replicas):
+                    yield (
+                        labels,
+                        replace(
+                            base,
+                            push_impulse=round(mass * dv, 9),
+                            push_direction_deg=round(float(direction), 9),
+                            replica=replica,
+                        ),
+                    )

@@ -22,7 +22,7 @@ import math
 import time
 import traceback
 from collections.abc import MutableSequence
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 
 import numpy as np
 import pandas as pd
@@ -44,10 +44,12 @@ from planners.base import planner_spec
 from robots.humanoid import humanoid
 from robots.jvrc1 import jvrc1
 from robots.model import RobotModel, cached_model
+from robots.perturbation import NOMINAL, Perturbation, simulated_robot
 from robots.robot_registry import DEFAULT_ROBOT, make_robot
 from robots.scene import Scenario
-from robots.types import CentroidalPlan, JointCommand, WholeBodyTargets
+from robots.types import CentroidalPlan, JointCommand, RobotState, WholeBodyTargets
 from sims.base import clear_backend_caches, make_simulator
+from sims.sensor_model import CommandDelay, SensorModel
 from stabilizers.base import stabilizer_spec
 from wholebody.base import DEFAULT_WHOLE_BODY, make_whole_body
 
@@ -81,6 +83,8 @@ class EpisodeSpec:
     speed: float | None = None  # [m/s] forward speed of walk / walk_push (None: the default)
     steps: int | None = None  # steps of walk / walk_push (None: their 10)
     robot: str = DEFAULT_ROBOT  # `robots.robot_registry`
+    replica: int = 0  # > 0: a replica of the episode (`replica_changes`)
+    perturbation: Perturbation | None = None  # None: nominal (`robots.perturbation`)
 
 
 @dataclass
@@ -288,6 +292,8 @@ def run_episode(spec: EpisodeSpec, progress: MutableSequence[float] | None = Non
         "hand_error_final_m": None,
         "angular_momentum_error": None,
         "latency_by_contacts_us": {},
+        "replica": spec.replica,
+        **(spec.perturbation or NOMINAL).columns(),
     }
     trace = _Trace(0, ())
     sim = None
@@ -295,6 +301,9 @@ def run_episode(spec: EpisodeSpec, progress: MutableSequence[float] | None = Non
         np.random.seed(spec.seed)  # noqa: NPY002 - seeds any legacy-API randomness too
         robot = make_robot(spec.robot, spec.scale)  # both cached per process: set-up once a worker
         model = cached_model(robot)
+        perturbation = spec.perturbation or NOMINAL
+        simulated = simulated_robot(robot, perturbation, spec.seed)  # the controller has `model`
+        truth = model if simulated is robot else cached_model(simulated)  # for the record
         scenario = make_scenario(
             spec.scenario,
             model,
@@ -317,6 +326,17 @@ def run_episode(spec: EpisodeSpec, progress: MutableSequence[float] | None = Non
         estimator = make_estimator(spec.estimator, model)
         whole_body = make_whole_body(spec.whole_body, model, dt)
         sim = make_simulator(spec.sim)
+        sensor_model = (
+            SensorModel(perturbation, spec.seed, robot.n_joints, len(robot.limbs), dt)
+            if perturbation.changes_sensors
+            else None
+        )
+        delay = (
+            CommandDelay(perturbation.command_delay, perturbation.gain_scale)
+            if perturbation.command_delay or perturbation.gain_scale != 1.0
+            else None
+        )
+        initial, push_shift = replica_changes(model.standing_state(), spec.seed, spec.replica)
     except Exception as exc:  # bad spec: recorded, not raised
         summary.update(
             status="error", error=f"setup: {type(exc).__name__}: {exc}", error_stage="setup"
@@ -326,24 +346,27 @@ def run_episode(spec: EpisodeSpec, progress: MutableSequence[float] | None = Non
 
     n_periods = round(scenario.duration / dt)
     trace = _Trace(n_periods, robot.limb_names)
-    pending = sorted(scenario.pushes, key=lambda p: p.time)
+    pending = sorted(
+        (replace(p, time=p.time + push_shift) for p in scenario.pushes), key=lambda p: p.time
+    )
     support = _SupportPolygon(robot)
     recorder = FootstepRecorder(
         robot.limb_names,
         tuple(k for k, limb in enumerate(robot.limbs) if limb.name.endswith("foot")),
-        lambda limb: _sole_pose(model, sim, limb),
+        lambda limb: _sole_pose(truth, sim, limb),
     )
     planned_steps = PlannedFootstepRecorder()
-    momentum = AngularMomentumErrors(model)  # Murooka Sec. V-F, from the ground truth
+    momentum = AngularMomentumErrors(truth)  # Murooka Sec. V-F, from the ground truth
     stage = "setup"
     wall_start = time.perf_counter()
     com_true_start = com_true_end = None  # [m] ground truth: walked, whatever was estimated
     yaw_true = [math.nan, math.nan]  # [rad] the base's heading at the start and the end
     try:
-        initial = model.standing_state()
-        com_true_start = model.com_position_world(initial)
+        com_true_start = truth.com_position_world(initial)
         yaw_true[0] = yaw_of(initial.base_orientation_world)
-        sensors = sim.reset(robot, scene, initial)
+        measured = sensors = sim.reset(simulated, scene, initial)
+        if sensor_model is not None:
+            sensors = sensor_model.observe(measured)
         estimator.reset(initial, sensors)
         state = estimator.estimate(sensors)
         planner.reset(model, scenario, state)
@@ -362,13 +385,13 @@ def run_episode(spec: EpisodeSpec, progress: MutableSequence[float] | None = Non
             state = estimator.estimate(sensors)
             timings["estimator"] = time.perf_counter_ns() - start
             _check_finite("estimator", state.base_position_world, state.com_position_world)
-            true_state = sensors.ground_truth()  # for the record only
+            true_state = measured.ground_truth()  # for the record only
             if k % MOMENTUM_EVERY == 0:
                 momentum.observe(true_state)
             if hand_frame is None:
-                com_true = model.com_state_world(true_state)
+                com_true = truth.com_state_world(true_state)
             else:  # the palm from the same forward-kinematics pass
-                com, com_velocity, hand_true = model.com_state_and_frame_position_world(
+                com, com_velocity, hand_true = truth.com_state_and_frame_position_world(
                     true_state, hand_frame
                 )
                 com_true = (com, com_velocity)
@@ -393,9 +416,13 @@ def run_episode(spec: EpisodeSpec, progress: MutableSequence[float] | None = Non
             _check_command(command)
             stage = "sim"
             progress[0] = 5.0
+            if delay is not None:
+                command = delay.apply(command)
             start = time.perf_counter_ns()
-            sensors = sim.step(command)
+            measured = sensors = sim.step(command)
             timings["sim"] = time.perf_counter_ns() - start
+            if sensor_model is not None:
+                sensors = sensor_model.observe(measured)
             timings["sim_engine"] = sim.engine_ns
 
             summary["solver_failures"] = int(plan.solver_failures)
@@ -417,7 +444,7 @@ def run_episode(spec: EpisodeSpec, progress: MutableSequence[float] | None = Non
             reason = sim.fall_reason()
             if reason is not None:
                 summary.update(
-                    status="fell", fell=True, fall_time=float(sensors.time), fall_reason=reason
+                    status="fell", fell=True, fall_time=float(measured.time), fall_reason=reason
                 )
                 break
     except Exception as exc:
@@ -429,9 +456,9 @@ def run_episode(spec: EpisodeSpec, progress: MutableSequence[float] | None = Non
         summary.update(status="error", error=message, error_stage=stage)
     finally:
         try:
-            truth = sim.ground_truth()
-            com_true_end = model.com_position_world(truth)
-            yaw_true[1] = yaw_of(truth.base_orientation_world)
+            last = sim.ground_truth()
+            com_true_end = truth.com_position_world(last)
+            yaw_true[1] = yaw_of(last.base_orientation_world)
         except Exception:  # a simulator that failed may have no state left
             com_true_end = None
         sim.close()
@@ -473,6 +500,29 @@ def run_episode(spec: EpisodeSpec, progress: MutableSequence[float] | None = Non
         )
     summary.update(provenance())
     return EpisodeResult(summary, frame, footsteps)
+
+
+REPLICA_STREAM = 7_004
+REPLICA_PUSH_JITTER_S = 0.02
+"""A replica's pushes start up to this much earlier or later [s] (uniform; 10 control
+periods)."""
+REPLICA_VELOCITY_SIGMA_MPS = 0.01
+"""A replica starts with a horizontal base velocity of this standard deviation [m/s] per axis
+(the whole robot sliding at about 1 cm/s, which the soles' friction stops)."""
+
+
+def replica_changes(initial: RobotState, seed: int, replica: int) -> tuple[RobotState, float]:
+    """(initial state, push time shift [s]) of replica `replica` of an episode: replica 0 is
+    the episode itself (no change); the others differ by a small seeded perturbation of the
+    initial state and the push timing (DESIGN.md: "replicate each magnitude"), drawn from
+    `default_rng([seed, REPLICA_STREAM, replica])`."""
+    if replica == 0:
+        return initial, 0.0
+    rng = np.random.default_rng([seed, REPLICA_STREAM, replica])
+    shift = float(rng.uniform(-REPLICA_PUSH_JITTER_S, REPLICA_PUSH_JITTER_S))
+    velocity = np.zeros(3)
+    velocity[:2] = rng.normal(0.0, REPLICA_VELOCITY_SIGMA_MPS, 2)
+    return replace(initial, base_linear_velocity_world=velocity), shift
 
 
 def hand_error_limb(scenario: Scenario) -> str | None:

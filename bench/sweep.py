@@ -34,6 +34,7 @@ from bench.dataset import RETRIED_STATUSES, ResultStore, failure_row, read_episo
 from bench.executors import EpisodeTimeout, make_executor, worker_progress
 from bench.runner import run_episode
 from bench.sweep_spec import Episode, SweepSpec
+from robots.perturbation import NOMINAL
 from robots.robot_registry import DEFAULT_ROBOT, make_robot
 
 
@@ -60,6 +61,8 @@ def _failure_row(episode: Episode, exc: BaseException) -> dict[str, Any]:
         friction=run["friction"],
         whole_body=run["whole_body"],
         speed=run["speed"],
+        replica=run["replica"],
+        **(episode.run.perturbation or NOMINAL).columns(),
     )
     if isinstance(exc, NotApplicable):
         return failure_row(episode.labels(), base, f"n/a: {exc}", status="n/a")

@@ -60,9 +60,11 @@ from bench.push_protocol import (
     push_episodes,
     walking_push_time,
 )
+from bench.robustness import parse_robustness, robustness_to_dict
 from bench.runner import EpisodeSpec
 from bench.scenarios import SCENARIOS, WALKS_WITH_SPEED
 from estimators.base import DEFAULT_ESTIMATOR, ESTIMATORS
+from robots.perturbation import Perturbation
 from robots.robot_registry import DEFAULT_ROBOT, ROBOTS
 from sims.base import SIMULATORS
 from wholebody.base import DEFAULT_WHOLE_BODY
@@ -121,11 +123,19 @@ class SweepSpec:
     # How a sweep runs, not what it measures: left out of the digest (a resume may change it).
     timeout_base_s: float = 60.0
     timeout_per_sim_s: float = 10.0
+    # robustness dimensions (`bench.robustness`): None is the nominal episode
+    perturbations: tuple[Perturbation | None, ...] = (None,)
     extra: dict = field(default_factory=dict, compare=False, repr=False)
 
     def to_dict(self) -> dict[str, Any]:
         data = asdict(self)
         data.pop("extra")
+        if self.push is not None and self.push.replicas == 1:  # as before replicas existed
+            data["push"].pop("replicas")
+        if self.perturbations == (None,):  # as before robustness existed
+            data.pop("perturbations")
+        else:
+            data["perturbations"] = robustness_to_dict(self.perturbations)
         if self.push is None:
             data.pop("push")
         if not self.speeds:  # as before speeds existed: earlier digests stay valid
@@ -166,8 +176,8 @@ class SweepSpec:
         for controller in self.controllers:
             pair = controller_spec(controller)
             for sim in self.sims:
-                for robot, scale, friction, seed in itertools.product(
-                    self.robots, self.scales, self.frictions, self.seeds
+                for perturbation, robot, scale, friction, seed in itertools.product(
+                    self.perturbations, self.robots, self.scales, self.frictions, self.seeds
                 ):
                     common = dict(
                         planner=pair.planner,
@@ -179,6 +189,7 @@ class SweepSpec:
                         scale=scale,
                         friction=friction,
                         robot=robot,
+                        perturbation=perturbation,
                     )
                     for scenario in self.scenarios:
                         for speed in self.speeds_of(scenario):
@@ -202,6 +213,8 @@ LATER_FIELDS = {
     "speed": None,
     "steps": None,
     "robot": DEFAULT_ROBOT,
+    "replica": 0,
+    "perturbation": None,
 }
 
 
@@ -237,6 +250,7 @@ _TOP_FIELDS = {
     f"(of {', '.join(WALKS_WITH_SPEED)})",
     "timeout_base_s": "a positive number of seconds (wall-clock budget of every episode)",
     "timeout_per_sim_s": "a positive number (wall-clock seconds per simulated second)",
+    "robustness": "a table of robustness dimensions (see bench.robustness)",
 }
 # fields that say how a sweep runs, not what it measures (not part of its digest)
 EXECUTION_FIELDS = ("timeout_base_s", "timeout_per_sim_s")
@@ -360,6 +374,14 @@ def spec_from_mapping(data: dict[str, Any]) -> SweepSpec:
             push = PushProtocol.from_mapping(data["push"])
         except ValueError as exc:
             raise SpecError(f"sweep spec field 'push.{exc}") from None
+    perturbations: tuple[Perturbation | None, ...] = (None,)
+    if "robustness" in data:
+        if not isinstance(data["robustness"], dict):
+            raise SpecError("sweep spec field 'robustness' must be a table (see bench.robustness)")
+        try:
+            perturbations = parse_robustness(data["robustness"])
+        except ValueError as exc:
+            raise SpecError(f"sweep spec field 'robustness.{exc}") from None
     if not scenarios and push is None:
         raise SpecError(
             "sweep spec: no episodes; give 'scenarios' (one of: "
@@ -378,16 +400,24 @@ def spec_from_mapping(data: dict[str, Any]) -> SweepSpec:
         )
     # the grid's size from its axes, before any episode is listed
     plain = sum(len(speeds) if speeds and s in WALKS_WITH_SPEED else 1 for s in scenarios)
-    per_point = plain + (len(push.phases) * len(push.dv) * push.count if push else 0)
+    per_point = plain + (
+        len(push.phases) * len(push.dv) * push.count * push.replicas if push else 0
+    )
     total = (
-        len(controllers) * len(sims) * len(robots) * len(scales) * len(frictions) * len(seeds)
+        len(controllers)
+        * len(sims)
+        * len(perturbations)
+        * len(robots)
+        * len(scales)
+        * len(frictions)
+        * len(seeds)
     ) * per_point
     if total > MAX_EPISODES:
         raise SpecError(
-            f"sweep spec: {total} episodes (controllers x sims x robots x scales x frictions x "
-            "seeds x "
-            f"(scenarios + push phases x dv x count)), more than the {MAX_EPISODES} a sweep may "
-            "have; split it into several sweeps"
+            f"sweep spec: {total} episodes (controllers x sims x robustness x robots x scales x "
+            "frictions x seeds x "
+            f"(scenarios + push phases x dv x count x replicas)), more than the {MAX_EPISODES} "
+            "a sweep may have; split it into several sweeps"
         )
     if push is not None and "walking" in push.phases:
         _check_walking_push(push, scales, robots)
@@ -405,6 +435,7 @@ def spec_from_mapping(data: dict[str, Any]) -> SweepSpec:
         push=push,
         duration=duration,
         speeds=speeds,
+        perturbations=perturbations,
         **timeouts,
     )
 

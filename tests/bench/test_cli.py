@@ -208,6 +208,14 @@ def refused(argv: list[str], capsys) -> str:
         ([*SWEEP, "--name", ".hidden"], "not starting with '.'"),
         ([*SWEEP, "--name", "a/b"], "got 'a/b'"),
         ([*SWEEP, "--name", "x..y"], "without '..'"),
+        # robustness dimensions
+        ([*SWEEP, "--noise", "foo=1"], "--noise: unknown sensor group 'foo'; groups: encoders"),
+        ([*SWEEP, "--noise", "-1"], "'robustness.noise' must be a list of numbers in [0, 1000]"),
+        ([*SWEEP, "--delay", "1.5"], "--delay must list integers, got '1.5'"),
+        ([*SWEEP, "--payload-kg", "imu=1"], "--payload-kg takes numbers, got 'imu=1'"),
+        ([*SWEEP, "--gain-scale", "nan"], "--gain-scale must list finite numbers, got 'nan'"),
+        ([*SWEEP, "--mass-error", "1"], "'robustness.mass_error' must be a list of numbers in"),
+        ([*SWEEP, "--push-dv", "0.2", "--push-replicas", "0"], "--push-replicas must be an"),
         # the sweep's size, from its axes
         (
             [*SWEEP, "--push-dv", "1", "--push-count", "10000", "--seeds", SEEDS_0_TO_100],
@@ -349,3 +357,26 @@ def test_list_shows_every_registry_and_marks_the_defaults():
         lines = sections[title]
         assert [line.split()[0] for line in lines] == list(registry.names())
         assert [line.split()[0] for line in lines if line.endswith("(default)")] == [default]
+
+
+def test_robustness_flags_make_the_specs_table(monkeypatch, tmp_path):
+    import bench.sweep
+
+    seen = []
+
+    def record(spec, *args, **kwargs):
+        seen.append(spec)
+        raise Ran("recorded")
+
+    monkeypatch.setattr(bench.sweep, "run_sweep", record)
+    monkeypatch.chdir(tmp_path)
+    argv = [*SWEEP, "--noise", "1,imu=4", "--delay", "2", "--payload-kg", "5"]
+    argv += ["--push-dv", "0.2", "--push-count", "2", "--push-replicas", "5"]
+    with pytest.raises(Ran):
+        main(argv)
+    (spec,) = seen
+    labels = [(p.label() if p else "nominal") for p in spec.perturbations]
+    assert labels == ["nominal", "noise=1", "noise_imu=4", "delay=2", "payload_kg=5"]
+    assert spec.push.replicas == 5
+    # 5 perturbations x (1 stand + 2 pushes x 5 replicas)
+    assert len(spec.episodes()) == 5 * (1 + 2 * 5)

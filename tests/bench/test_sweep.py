@@ -10,6 +10,7 @@ import sys
 import time
 from pathlib import Path
 
+import numpy as np
 import pandas as pd
 import pytest
 
@@ -60,17 +61,25 @@ def killing_work(episode):
 
 def test_local_and_ray_give_identical_summaries(tmp_path: Path):
     ray = pytest.importorskip("ray", reason="Ray is a dev dependency; reinstall with make")
-    spec = small_spec()
+    # with sensor noise too: the same seed gives the same noise on both executors
+    spec = small_spec(robustness={"noise": [1.0]})
     local = run_sweep(spec, tmp_path / "local", workers=2, progress=False)
     try:
         remote = run_sweep(spec, tmp_path / "ray", executor="ray", workers=2, progress=False)
     finally:
         ray.shutdown()
-    assert len(local) == len(spec.episodes()) == 6
+    assert len(local) == len(spec.episodes()) == 12
     assert set(local["status"]) == {"ok"}
     # the pushes moved the robot: the runs are not trivially equal
     assert local["com_error_rms_m"].max() > 0
+    local, remote = (f.sort_values("episode_id") for f in (local, remote))
     pd.testing.assert_frame_equal(physical(local), physical(remote))
+    order = ["sim", "scenario", "push_index"]
+    noisy, nominal = (
+        local[local["perturbation"] == label].sort_values(order) for label in ("noise=1", "nominal")
+    )
+    assert list(noisy["push_index"].fillna(-1)) == list(nominal["push_index"].fillna(-1))
+    assert np.all(noisy["com_error_rms_m"].to_numpy() != nominal["com_error_rms_m"].to_numpy())
 
 
 def test_killed_worker_loses_only_its_episode_which_is_run_again(tmp_path: Path, monkeypatch):

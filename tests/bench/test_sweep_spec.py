@@ -287,7 +287,8 @@ def test_episode_ids_of_the_default_whole_body_layer_are_those_of_earlier_releas
 
     def earlier_id(episode) -> str:
         fields = asdict(episode.run)
-        del fields["whole_body"], fields["speed"], fields["steps"], fields["robot"]  # not then
+        for later in ("whole_body", "speed", "steps", "robot", "replica", "perturbation"):
+            del fields[later]  # not then
         labels = {
             k: getattr(episode, k)
             for k in ("push_phase", "push_dv_mps", "push_index")

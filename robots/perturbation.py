@@ -1,0 +1,222 @@
+"""What a robustness sweep changes in an episode (issue 21): the sensors, the loop's delays,
+the simulated robot against the controller's model, its actuators and the ground.
+
+A `Perturbation` is plain data with every field at a default that changes nothing (the
+nominal episode). What it changes, and where:
+
+- sensors (`sims.sensor_model`): Gaussian white noise on the joint encoders, the IMU and the
+  force/torque sensors, in multiples of a real sensor's data-sheet figures
+  (`sims.sensor_model.DATASHEET`), and a constant bias per episode;
+- delays (`sims.sensor_model`): the joint command applied `command_delay` control periods
+  late; the estimator reads sensors `sensor_delay` periods old;
+- model error (`simulated_robot` here): the simulated robot carries a payload on its torso,
+  has its centre of mass moved forward, or has every link's mass off by up to a relative
+  amount, while the controller keeps the nominal model;
+- actuation: every joint's torque limit (`simulated_robot`) and the servo gains of every
+  applied command (`sims.sensor_model.apply_gain_scale`) scaled;
+- ground (`robots.scene`): a seeded field of thin boxes of bounded height, and a slope.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, fields, replace
+
+import numpy as np
+
+from robots.inertia import combined_inertial
+from robots.spec import Inertial, RobotDescription
+
+PAYLOAD_HALF_EXTENT_M = 0.05
+"""The payload is a solid cube of this half extent [m] (a 10 cm block of the given mass)."""
+PAYLOAD_OFFSET_FROM_TORSO_COM = (-0.10, 0.0, 0.10)
+"""Where the payload's centre sits [m], from the torso link's centre of mass in the torso
+frame: behind and above it, as a backpack (a payload at the torso's own centre of mass would
+shift the robot's centre of mass only through the posture)."""
+MASS_ERROR_STREAM = 7_001
+"""The random stream of the link mass errors (`numpy.random.default_rng([seed, this])`)."""
+
+
+@dataclass(frozen=True)
+class Perturbation:
+    """An episode's perturbations; every default leaves the episode nominal.
+
+    noise_encoders, noise_imu, noise_ft: white-noise standard deviations in multiples of the
+    data sheet's (`sims.sensor_model.DATASHEET`); noise_bias: a constant bias per episode per
+    channel, in multiples of the same figures; command_delay, sensor_delay: control periods;
+    payload_kg [kg] on the torso, unknown to the controller; com_offset_m [m]: the simulated
+    robot's centre of mass moved forward (torso x) by this much; mass_error: every link's
+    mass (and inertia) scaled by 1 + mass_error u, u uniform in [-1, 1] per link, seeded;
+    torque_scale, gain_scale: factors on the torque limits and on the servo gains;
+    ground_height_m [m]: the largest height of the uneven ground's boxes; slope_deg [deg]:
+    the ground's inclination (rising along +x)."""
+
+    noise_encoders: float = 0.0
+    noise_imu: float = 0.0
+    noise_ft: float = 0.0
+    noise_bias: float = 0.0
+    command_delay: int = 0
+    sensor_delay: int = 0
+    payload_kg: float = 0.0
+    com_offset_m: float = 0.0
+    mass_error: float = 0.0
+    torque_scale: float = 1.0
+    gain_scale: float = 1.0
+    ground_height_m: float = 0.0
+    slope_deg: float = 0.0
+
+    @property
+    def nominal(self) -> bool:
+        return self == NOMINAL
+
+    @property
+    def changes_robot(self) -> bool:
+        """Whether the simulated robot differs from the controller's model."""
+        return (
+            self.payload_kg != 0.0
+            or self.com_offset_m != 0.0
+            or self.mass_error != 0.0
+            or self.torque_scale != 1.0
+        )
+
+    @property
+    def changes_sensors(self) -> bool:
+        return (
+            self.noise_encoders != 0.0
+            or self.noise_imu != 0.0
+            or self.noise_ft != 0.0
+            or self.noise_bias != 0.0
+            or self.sensor_delay != 0
+        )
+
+    def label(self) -> str:
+        """ "nominal", or the changed fields as "name=value" joined by commas; every sensor's
+        noise at one multiple is "noise=value", both delays at one value "delay=value"."""
+        values = {
+            f.name: getattr(self, f.name)
+            for f in fields(self)
+            if getattr(self, f.name) != getattr(NOMINAL, f.name)
+        }
+        for group, members in (
+            ("noise", ("noise_encoders", "noise_imu", "noise_ft")),
+            ("delay", ("command_delay", "sensor_delay")),
+        ):
+            if all(name in values for name in members) and len({values[n] for n in members}) == 1:
+                value = values[members[0]]
+                for name in members:
+                    del values[name]
+                values = {group: value, **values}
+        return ",".join(f"{name}={value:g}" for name, value in values.items()) or "nominal"
+
+    def columns(self) -> dict[str, float | int | str]:
+        """The result row's columns: every field, and `perturbation` (`label`)."""
+        return {
+            "perturbation": self.label(),
+            **{f.name: getattr(self, f.name) for f in fields(self)},
+        }
+
+
+NOMINAL = Perturbation()
+PERTURBATION_FIELDS = tuple(f.name for f in fields(Perturbation))
+
+
+def torso_link(robot: RobotDescription) -> str:
+    """The link the arms branch from (the humanoid's base, JVRC-1's chest): the deepest link
+    on the chains from the base to both hands."""
+    parent_of = {joint.child: joint.parent for joint in robot.joints}
+
+    def chain(link: str) -> list[str]:
+        links = [link]
+        while links[-1] in parent_of:
+            links.append(parent_of[links[-1]])
+        return links[::-1]  # base first
+
+    hands = [limb.link for limb in robot.limbs if limb.name.endswith("hand")]
+    if len(hands) < 2:
+        return robot.base_link
+    left, right = chain(hands[0]), chain(hands[1])
+    common = [a for a, b in zip(left, right, strict=False) if a == b]
+    return common[-1]
+
+
+def simulated_robot(
+    robot: RobotDescription, perturbation: Perturbation, seed: int
+) -> RobotDescription:
+    """The robot the simulator runs: `robot` with `perturbation`'s model errors and torque
+    scale (the controller keeps `robot`). The same description when nothing changes."""
+    if not perturbation.changes_robot:
+        return robot
+    links = list(robot.links)
+    if perturbation.mass_error != 0.0:
+        rng = np.random.default_rng([seed, MASS_ERROR_STREAM])
+        factors = 1.0 + perturbation.mass_error * rng.uniform(-1.0, 1.0, len(links))
+        if np.any(factors <= 0.0):
+            raise ValueError(f"mass_error {perturbation.mass_error:g} makes a link massless")
+        links = [
+            replace(link, inertial=_scaled_inertial(link.inertial, float(f)))
+            for link, f in zip(links, factors, strict=True)
+        ]
+    index = {link.name: k for k, link in enumerate(links)}
+    torso = torso_link(robot)
+    k = index[torso]
+    inertial = links[k].inertial
+    if perturbation.com_offset_m != 0.0:
+        # move the torso's centre of mass by d M / m_torso: the whole robot's moves by d
+        total = sum(link.inertial.mass for link in links)
+        shift = perturbation.com_offset_m * total / inertial.mass
+        com = np.add(inertial.com_in_link, (shift, 0.0, 0.0))
+        inertial = replace(inertial, com_in_link=tuple(float(x) for x in com))
+    if perturbation.payload_kg != 0.0:
+        inertial = combined_inertial(
+            [
+                (inertial, (0.0, 0.0, 0.0)),
+                payload_inertial(perturbation.payload_kg, inertial.com_in_link),
+            ]
+        )
+    links[k] = replace(links[k], inertial=inertial)
+    joints = robot.joints
+    if perturbation.torque_scale != 1.0:
+        joints = tuple(
+            replace(j, torque_limit=j.torque_limit * perturbation.torque_scale) for j in joints
+        )
+    return replace(robot, links=tuple(links), joints=joints)
+
+
+def payload_inertial(mass: float, torso_com_in_link) -> tuple[Inertial, tuple[float, float, float]]:
+    """The payload (a solid cube, `PAYLOAD_HALF_EXTENT_M`) as (its inertial about its own
+    centre, its centre in the torso frame: `PAYLOAD_OFFSET_FROM_TORSO_COM` from the torso's
+    centre of mass)."""
+    if mass <= 0.0:
+        raise ValueError(f"payload_kg must be positive, got {mass:g}")
+    side = 2.0 * PAYLOAD_HALF_EXTENT_M
+    moment = mass * side**2 / 6.0  # a solid cube about its centre
+    diagonal = ((moment, 0.0, 0.0), (0.0, moment, 0.0), (0.0, 0.0, moment))
+    centre = tuple(
+        float(c + o) for c, o in zip(torso_com_in_link, PAYLOAD_OFFSET_FROM_TORSO_COM, strict=True)
+    )
+    return Inertial(mass, (0.0, 0.0, 0.0), diagonal), centre
+
+
+def _scaled_inertial(inertial: Inertial, factor: float) -> Inertial:
+    """The same body with mass and inertia times `factor` (a uniformly denser or lighter
+    link: its centre of mass stays)."""
+    inertia = tuple(tuple(factor * x for x in row) for row in inertial.inertia_at_com)
+    return replace(inertial, mass=inertial.mass * factor, inertia_at_com=inertia)
+
+
+def predicted_com_shift(
+    robot: RobotDescription, com_world: np.ndarray, payload_world: np.ndarray, payload_kg: float
+) -> np.ndarray:
+    """Where a payload moves the centre of mass [m]: m_p (p - c) / (M + m_p), for the robot of
+    mass M with its centre of mass at `com_world` and the payload's at `payload_world`."""
+    total = robot.total_mass
+    return payload_kg * (np.asarray(payload_world) - np.asarray(com_world)) / (total + payload_kg)
+
+
+__all__ = [
+    "NOMINAL",
+    "PERTURBATION_FIELDS",
+    "Perturbation",
+    "predicted_com_shift",
+    "simulated_robot",
+    "torso_link",
+]

@@ -1,0 +1,267 @@
+"""Robustness dimensions in the loop (issue 21): model errors change the simulated robot only,
+as physics predicts; delays shift what the runner applies and hands over by exactly k periods;
+replicas differ by a small seeded change; the sweep spec expands one dimension at a time."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+import bench.runner as runner_module
+from bench.robustness import dimension_of, parse_robustness, perturbation_for
+from bench.runner import (
+    REPLICA_PUSH_JITTER_S,
+    EpisodeSpec,
+    replica_changes,
+    run_episode,
+)
+from bench.sweep_spec import SpecError, spec_from_mapping
+from robots.humanoid import humanoid
+from robots.model import RobotModel
+from robots.perturbation import (
+    PAYLOAD_OFFSET_FROM_TORSO_COM,
+    Perturbation,
+    predicted_com_shift,
+    simulated_robot,
+    torso_link,
+)
+from robots.robot_registry import make_robot
+
+G = 9.81
+
+
+def test_torso_is_where_the_arms_branch():
+    assert torso_link(humanoid()) == "torso"  # the humanoid's base
+    jvrc = make_robot("jvrc1")
+    assert torso_link(jvrc) != jvrc.base_link  # JVRC-1's chest, above its waist joints
+    assert jvrc.link(torso_link(jvrc)).inertial.mass > 5.0
+
+
+def test_payload_moves_the_centre_of_mass_by_the_lever_rule():
+    robot = humanoid()
+    heavy = simulated_robot(robot, Perturbation(payload_kg=5.0), seed=0)
+    assert heavy.total_mass == pytest.approx(robot.total_mass + 5.0, abs=1e-12)
+    nominal, truth = RobotModel(robot), RobotModel(heavy)
+    state = nominal.standing_state()
+    torso_com = robot.link("torso").inertial.com_in_link
+    position, rotation = nominal.frame_pose(state, "torso")
+    payload_world = position + rotation @ np.add(torso_com, PAYLOAD_OFFSET_FROM_TORSO_COM)
+    com = nominal.com_position_world(state)
+    expected = predicted_com_shift(robot, com, payload_world, 5.0)
+    # 5 kg 0.1 m behind the torso's centre of mass: about 8 mm back
+    assert expected[0] < -0.005
+    np.testing.assert_allclose(truth.com_position_world(state) - com, expected, rtol=0, atol=1e-12)
+
+
+def test_com_offset_moves_the_simulated_robots_centre_of_mass_forward():
+    robot = humanoid()
+    moved = simulated_robot(robot, Perturbation(com_offset_m=0.02), seed=0)
+    assert moved.total_mass == pytest.approx(robot.total_mass, abs=1e-12)
+    state = RobotModel(robot).standing_state()  # torso upright: its x is the world's
+    shift = RobotModel(moved).com_position_world(state) - RobotModel(robot).com_position_world(
+        state
+    )
+    np.testing.assert_allclose(shift, [0.02, 0.0, 0.0], rtol=0, atol=1e-12)
+
+
+def test_mass_errors_are_bounded_seeded_and_keep_each_links_centre_of_mass():
+    robot = humanoid()
+    changed = simulated_robot(robot, Perturbation(mass_error=0.1), seed=5)
+    again = simulated_robot(robot, Perturbation(mass_error=0.1), seed=5)
+    other = simulated_robot(robot, Perturbation(mass_error=0.1), seed=6)
+    assert changed == again
+    assert changed != other
+    factors = np.array(
+        [b.inertial.mass / a.inertial.mass for a, b in zip(robot.links, changed.links, strict=True)]
+    )
+    assert np.all(np.abs(factors - 1.0) <= 0.1)
+    assert np.ptp(factors) > 0.05
+    for a, b, f in zip(robot.links, changed.links, factors, strict=True):
+        assert b.inertial.com_in_link == a.inertial.com_in_link
+        np.testing.assert_allclose(b.inertial.inertia_matrix, f * a.inertial.inertia_matrix)
+    changed.validate()
+
+
+def test_torque_scale_scales_the_simulated_limits_only():
+    robot = humanoid()
+    weak = simulated_robot(robot, Perturbation(torque_scale=0.5), seed=0)
+    np.testing.assert_allclose(weak.array("torque_limit"), 0.5 * robot.array("torque_limit"))
+    assert weak.array("kp").tolist() == robot.array("kp").tolist()
+    assert simulated_robot(robot, Perturbation(gain_scale=0.5), seed=0) is robot
+
+
+@pytest.mark.parametrize("sim", ["mujoco", "pybullet"])
+def test_a_payload_unknown_to_the_controller_weighs_on_the_feet_under_the_true_com(sim):
+    """Standing 2 s with 5 kg on the torso that the controller does not know: the feet carry
+    (M + m_p) g, and at rest the measured centre of pressure lies under the true centre of
+    mass, not under the one the controller's model gives."""
+    payload = 5.0
+    result = run_episode(
+        EpisodeSpec(
+            planner="preview_control",
+            stabilizer="centroidal_feedback",
+            sim=sim,
+            scenario="stand",
+            duration=2.0,
+            perturbation=Perturbation(payload_kg=payload),
+        )
+    )
+    assert result.summary["status"] == "ok"
+    assert result.summary["payload_kg"] == payload
+    last = result.trace.iloc[-100:]  # the last 0.2 s
+    force = sum(last[f"wrench_measured_{f}_fz"].mean() for f in ("left_foot", "right_foot"))
+    mass = humanoid().total_mass + payload
+    assert force == pytest.approx(mass * G, rel=0.005)
+    true_com = last[["com_true_x", "com_true_y"]].mean().to_numpy()
+    believed = last[["com_actual_x", "com_actual_y"]].mean().to_numpy()
+    cop = last[["zmp_actual_x", "zmp_actual_y"]].mean().to_numpy()
+    assert np.abs(cop - true_com).max() < 1e-3
+    assert np.abs(true_com - believed).max() > 5e-3  # the controller is wrong by mm, not 0
+
+
+class _Recording:
+    """Wraps an object and records the first argument of `method` and its return value."""
+
+    def __init__(self, inner, method: str, calls: list, results: list | None = None) -> None:
+        self._inner, self._method, self._calls, self._results = inner, method, calls, results
+
+    def __getattr__(self, name):
+        attribute = getattr(self._inner, name)
+        if name != self._method:
+            return attribute
+
+        def recorded(*args, **kwargs):
+            self._calls.append(args[0])
+            value = attribute(*args, **kwargs)
+            if self._results is not None:
+                self._results.append(value)
+            return value
+
+        return recorded
+
+
+@pytest.mark.parametrize(("command_delay", "sensor_delay"), [(2, 0), (0, 3), (1, 1)])
+def test_delays_shift_commands_and_readings_by_exactly_k_periods(
+    monkeypatch, command_delay, sensor_delay
+):
+    computed, applied, readings, handed = [], [], [], []
+    make_simulator, make_whole_body = runner_module.make_simulator, runner_module.make_whole_body
+    make_estimator = runner_module.make_estimator
+    monkeypatch.setattr(
+        runner_module,
+        "make_simulator",
+        lambda name: _Recording(make_simulator(name), "step", applied, readings),
+    )
+    monkeypatch.setattr(
+        runner_module,
+        "make_whole_body",
+        lambda *a: _Recording(make_whole_body(*a), "command", [], computed),
+    )
+    monkeypatch.setattr(
+        runner_module,
+        "make_estimator",
+        lambda *a: _Recording(make_estimator(*a), "estimate", handed),
+    )
+    result = run_episode(
+        EpisodeSpec(
+            planner="preview_control",
+            stabilizer="centroidal_feedback",
+            sim="mujoco",
+            scenario="stand",
+            duration=0.1,
+            perturbation=Perturbation(command_delay=command_delay, sensor_delay=sensor_delay),
+        )
+    )
+    assert result.summary["status"] == "ok"
+    n = len(computed)
+    assert n == len(applied) == 50
+    k = command_delay
+    assert all(applied[j] is computed[0] for j in range(k + 1))
+    assert all(applied[j] is computed[j - k] for j in range(k, n))
+    # the estimator reads once after the reset, then once per period: in period j >= 1 it
+    # gets the simulator's reading of period j - 1 (its step's result) from `k` periods before
+    k = sensor_delay
+    assert len(handed) == n + 1
+    assert all(handed[j + 1].time == 0.0 for j in range(k + 1))  # the reset's until then
+    for j in range(1 + k, n):
+        assert handed[j + 1].time == readings[j - 1 - k].time
+        assert np.array_equal(handed[j + 1].joint_position, readings[j - 1 - k].joint_position)
+
+
+def test_replicas_differ_by_a_small_seeded_change_and_replica_0_is_the_episode():
+    initial = RobotModel(humanoid()).standing_state()
+    same, shift = replica_changes(initial, seed=0, replica=0)
+    assert same is initial
+    assert shift == 0.0
+    first = replica_changes(initial, seed=0, replica=1)
+    assert first[1] == replica_changes(initial, seed=0, replica=1)[1]  # seeded
+    shifts = [replica_changes(initial, 0, r)[1] for r in range(1, 30)]
+    assert max(abs(s) for s in shifts) <= REPLICA_PUSH_JITTER_S
+    assert len(set(shifts)) == len(shifts)
+    velocity = first[0].base_linear_velocity_world
+    assert velocity[2] == 0.0
+    assert 0.0 < np.linalg.norm(velocity) < 0.05
+    np.testing.assert_array_equal(first[0].joint_position, initial.joint_position)
+
+
+def test_robustness_table_varies_one_dimension_at_a_time():
+    spec = spec_from_mapping(
+        {
+            "controllers": ["hold+posture"],
+            "sims": ["mujoco"],
+            "scenarios": ["stand"],
+            "robustness": {"noise": [0, 1, 2], "delay": [1], "payload_kg": [5.0]},
+        }
+    )
+    labels = [(e.run.perturbation or Perturbation()).label() for e in spec.episodes()]
+    assert labels == ["nominal", "noise=1", "noise=2", "delay=1", "payload_kg=5"]
+    assert len({e.episode_id for e in spec.episodes()}) == 5
+    # read back from the spec's record: the same perturbations
+    record = spec.to_dict()["perturbations"]
+    assert parse_robustness(record) == spec.perturbations
+    assert dimension_of(perturbation_for("delay", 2)) == ("delay", 2.0)
+    assert dimension_of(Perturbation(noise_imu=1.0, payload_kg=1.0)) is None
+
+
+@pytest.mark.parametrize(
+    ("table", "message"),
+    [
+        ({"noise": [-1]}, "'robustness.noise' must be a list of numbers in [0, 1000]"),
+        ({"delay": [1.5]}, "'robustness.delay' must be a list of integers in [0, 100]"),
+        ({"torque_scale": [0]}, "'robustness.torque_scale' must be a list of numbers in (0, 10]"),
+        ({"wind": [1]}, "'robustness.wind' is unknown"),
+        ({"nominal": False}, "'robustness.nominal' is false and no dimension is given"),
+        ([1], "'robustness' must be a table"),
+    ],
+)
+def test_bad_robustness_tables_are_refused_with_one_line(table, message):
+    base = {"controllers": ["hold+posture"], "sims": ["mujoco"], "scenarios": ["stand"]}
+    with pytest.raises(SpecError) as error:
+        spec_from_mapping({**base, "robustness": table})
+    assert message in str(error.value)
+    assert "\n" not in str(error.value)
+
+
+def test_push_replicas_multiply_the_pushes_and_keep_the_ids_of_replica_0():
+    base = {
+        "controllers": ["hold+posture"],
+        "sims": ["mujoco"],
+        "push": {"dv": [0.2], "count": 3},
+    }
+    one = spec_from_mapping(base).episodes()
+    five = spec_from_mapping({**base, "push": {**base["push"], "replicas": 5}}).episodes()
+    assert len(five) == 5 * len(one) == 15
+    assert [e.episode_id for e in five if e.run.replica == 0] == [e.episode_id for e in one]
+    assert sorted(e.run.replica for e in five) == sorted(list(range(5)) * 3)
+    assert "replicas" not in spec_from_mapping(base).to_dict()["push"]  # digest as before
+
+
+def test_the_main_jobs_digest_and_ids_are_those_before_robustness():
+    """Recorded at e332790, before the robustness dimensions: a resume of an earlier main job
+    runs nothing twice."""
+    from bench.sweep_spec import load_spec
+
+    spec = load_spec("bench/specs/main.toml")
+    episodes = spec.episodes()
+    assert spec.digest() == "ffa92370b0e9"
+    assert (len(episodes), episodes[5].episode_id) == (1414, "c1877594b2453ab7")

@@ -1,0 +1,146 @@
+"""Imperfect sensors and delays (`sims.sensor_model`): the injected noise has the requested
+standard deviation, the same seed gives the same noise in both simulators, and a delay of k
+periods shifts commands and readings by exactly k periods."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+from scipy.spatial.transform import Rotation
+
+from robots.perturbation import Perturbation
+from robots.scene import Scene
+from robots.types import JointCommand
+from sims.base import make_simulator
+from sims.sensor_model import DATASHEET, CommandDelay, SensorModel, datasheet
+
+DT = 0.002
+
+
+def _standing(sim_name, robot, model, periods, perturbation, seed=3):
+    """(simulator readings, what the estimator would read) over `periods` standing periods."""
+    sim = make_simulator(sim_name)
+    initial = model.standing_state()
+    raw = [sim.reset(robot, Scene(), initial)]
+    sensors = SensorModel(perturbation, seed, robot.n_joints, len(robot.limbs), DT)
+    read = [sensors.observe(raw[0])]
+    hold = model.hold_command(initial)
+    for _ in range(periods):
+        raw.append(sim.step(hold))
+        read.append(sensors.observe(raw[-1]))
+    sim.close()
+    return raw, read
+
+
+def _offsets(raw, read) -> dict[str, np.ndarray]:
+    """What the sensor model added, channel by channel, over all periods."""
+
+    def stack(name):
+        return np.array(
+            [getattr(b, name) - getattr(a, name) for a, b in zip(raw, read, strict=True)]
+        )
+
+    rotation = np.array(
+        [
+            (
+                Rotation.from_quat(np.roll(b.imu_orientation_world, -1))
+                * Rotation.from_quat(np.roll(a.imu_orientation_world, -1)).inv()
+            ).as_rotvec()
+            for a, b in zip(raw, read, strict=True)
+        ]
+    )
+    wrench = stack("contact_wrench_limb")
+    return {
+        "encoder_position_rad": stack("joint_position").ravel(),
+        "encoder_velocity_rad_s": stack("joint_velocity").ravel(),
+        "imu_tilt_rad": rotation[:, :2].ravel(),
+        "imu_heading_rad": rotation[:, 2],
+        "gyro_rad_s": stack("imu_angular_velocity_imu").ravel(),
+        "accelerometer_m_s2": stack("imu_linear_acceleration_imu").ravel(),
+        "force_N": wrench[:, :, :3].ravel(),
+        "moment_xy_Nm": wrench[:, :, 3:5].ravel(),
+        "moment_z_Nm": wrench[:, :, 5].ravel(),
+    }
+
+
+def test_datasheet_figures_follow_from_the_named_sensors():
+    # 17-bit encoder: 2 pi / 131072 = 4.7937e-5 rad; / sqrt(12) = 1.3838e-5 rad
+    assert DATASHEET.encoder_position_rad == pytest.approx(1.3838e-5, rel=1e-4)
+    # finite difference over 2 ms: sqrt(2) x that / 0.002 = 9.785e-3 rad/s
+    assert DATASHEET.encoder_velocity_rad_s == pytest.approx(9.785e-3, rel=1e-3)
+    # 3DM-GX5-25: 0.005 deg/s/sqrt(Hz) x sqrt(500 Hz) = 0.1118 deg/s = 1.9514e-3 rad/s
+    assert DATASHEET.gyro_rad_s == pytest.approx(1.9514e-3, rel=1e-4)
+    # 25 micro-g/sqrt(Hz) x sqrt(500 Hz) = 5.4820e-3 m/s^2
+    assert DATASHEET.accelerometer_m_s2 == pytest.approx(5.4820e-3, rel=1e-4)
+    # a sample twice as long averages the white noise down by sqrt(2)
+    assert datasheet(0.004).gyro_rad_s == pytest.approx(DATASHEET.gyro_rad_s / math.sqrt(2))
+
+
+def test_injected_noise_has_the_requested_standard_deviation(robot, model):
+    """Each channel's measured standard deviation over a 4 s standing episode within 5 % of
+    the data sheet's times the requested multiple (2 000 periods: the estimate's own relative
+    error is 1 / sqrt(2 x samples), at most 1.6 % for the heading's 2 000 samples)."""
+    perturbation = Perturbation(noise_encoders=2.0, noise_imu=1.0, noise_ft=0.5)
+    raw, read = _standing("mujoco", robot, model, 1999, perturbation)
+    scale = {"encoder": 2.0, "imu": 1.0, "gyro": 1.0, "accelerometer": 1.0}
+    for channel, offsets in _offsets(raw, read).items():
+        multiple = next((v for k, v in scale.items() if channel.startswith(k)), 0.5)
+        requested = multiple * getattr(DATASHEET, channel)
+        assert abs(offsets.mean()) < 4 * requested / math.sqrt(offsets.size), channel
+        assert offsets.std() == pytest.approx(requested, rel=0.05), channel
+
+
+def test_the_same_seed_gives_the_same_noise_in_both_simulators(robot, model):
+    perturbation = Perturbation(noise_encoders=1.0, noise_imu=1.0, noise_ft=1.0, noise_bias=1.0)
+    mujoco = _offsets(*_standing("mujoco", robot, model, 50, perturbation))
+    pybullet = _offsets(*_standing("pybullet", robot, model, 50, perturbation))
+    for channel in mujoco:
+        # equal but for the rounding of adding to different readings (1e-9 of the reading)
+        np.testing.assert_allclose(mujoco[channel], pybullet[channel], rtol=0, atol=1e-9)
+    other = _offsets(*_standing("mujoco", robot, model, 50, perturbation, seed=4))
+    assert not np.allclose(other["gyro_rad_s"], mujoco["gyro_rad_s"])
+
+
+def test_bias_is_constant_over_an_episode(robot, model):
+    raw, read = _standing("mujoco", robot, model, 30, Perturbation(noise_bias=5.0))
+    offsets = _offsets(raw, read)
+    gyro = offsets["gyro_rad_s"].reshape(-1, 3)
+    assert np.ptp(gyro, axis=0).max() < 1e-12  # the same offset every period
+    assert np.abs(gyro[0]).max() > 0.1 * 5.0 * DATASHEET.gyro_rad_s  # and not zero
+
+
+def test_nominal_sensor_model_passes_readings_through(robot, model):
+    raw, read = _standing("mujoco", robot, model, 3, Perturbation())
+    assert all(a is b for a, b in zip(raw, read, strict=True))
+
+
+@pytest.mark.parametrize("k", [0, 1, 3])
+def test_sensor_delay_hands_over_the_reading_k_periods_old(robot, model, k):
+    raw, read = _standing("mujoco", robot, model, 10, Perturbation(sensor_delay=k))
+    assert all(read[j] is raw[0] for j in range(k + 1))  # the first reading until then
+    assert all(read[j] is raw[j - k] for j in range(k, len(raw)))
+
+
+def _command(k: int, n: int = 4) -> JointCommand:
+    return JointCommand(
+        np.full(n, float(k)), np.zeros(n), np.full(n, -float(k)), np.full(n, 100.0), np.ones(n)
+    )
+
+
+@pytest.mark.parametrize("k", [0, 1, 2, 5])
+def test_command_delay_applies_the_command_k_periods_later(k):
+    delay = CommandDelay(k)
+    computed = [_command(j) for j in range(20)]
+    applied = [delay.apply(c) for c in computed]
+    assert all(applied[j] is computed[0] for j in range(k + 1))
+    assert all(applied[j] is computed[j - k] for j in range(k, 20))
+
+
+def test_gain_scale_scales_the_applied_gains_only():
+    applied = CommandDelay(0, gain_scale=0.5).apply(_command(2))
+    assert np.array_equal(applied.kp, np.full(4, 50.0))
+    assert np.array_equal(applied.kd, np.full(4, 0.5))
+    assert np.array_equal(applied.position, np.full(4, 2.0))
+    assert np.array_equal(applied.torque_feedforward, np.full(4, -2.0))
