@@ -16,6 +16,8 @@ degradation curve varies one thing at a time)::
     mass_error = [0.1]        # every link's mass off by up to this fraction (seeded)
     torque_scale = [0.5]      # the torque limits scaled
     gain_scale = [0.5]        # the servo gains scaled
+    ground_height_m = [0.02]  # uneven ground ahead: tiles up to this high [m]
+    slope_deg = [5]           # a ramp ahead rising at this angle [deg]
 
 What each changes and where: `robots.perturbation`, `sims.sensor_model`.
 """
@@ -34,6 +36,8 @@ MAX_PAYLOAD_KG = 1_000.0
 MAX_COM_OFFSET_M = 1.0
 MAX_MASS_ERROR = 0.9  # a link can lose 90 % of its mass at most (never none)
 MAX_ACTUATION_SCALE = 10.0
+MAX_GROUND_HEIGHT_M = 0.2
+MAX_SLOPE_DEG = 30.0
 
 # dimension -> (the Perturbation fields it sets, integer values, minimum, maximum, strict
 # minimum, what it accepts)
@@ -120,6 +124,22 @@ DIMENSIONS: dict[str, tuple[tuple[str, ...], bool, float, float, bool, str]] = {
         True,
         "factors on every joint's torque limit",
     ),
+    "ground_height_m": (
+        ("ground_height_m",),
+        False,
+        0.0,
+        MAX_GROUND_HEIGHT_M,
+        False,
+        "m, the highest tile of an uneven ground ahead of the robot",
+    ),
+    "slope_deg": (
+        ("slope_deg",),
+        False,
+        -MAX_SLOPE_DEG,
+        MAX_SLOPE_DEG,
+        False,
+        "deg, a ramp ahead of the robot rising along its walk (negative: falling)",
+    ),
     "gain_scale": (
         ("gain_scale",),
         False,
@@ -145,6 +165,8 @@ EXAMPLES = {
     "mass_error": "0.05,0.1",
     "torque_scale": "0.5,0.75",
     "gain_scale": "0.5,2",
+    "ground_height_m": "0.01,0.02",
+    "slope_deg": "2,5",
 }
 """A magnitude list per dimension, for the command line's help."""
 

@@ -44,7 +44,7 @@ from planners.base import planner_spec
 from robots.humanoid import humanoid
 from robots.jvrc1 import jvrc1
 from robots.model import RobotModel, cached_model
-from robots.perturbation import NOMINAL, Perturbation, simulated_robot
+from robots.perturbation import NOMINAL, Perturbation, simulated_robot, simulated_scene
 from robots.robot_registry import DEFAULT_ROBOT, make_robot
 from robots.scene import Scenario
 from robots.types import CentroidalPlan, JointCommand, RobotState, WholeBodyTargets
@@ -317,6 +317,8 @@ def run_episode(spec: EpisodeSpec, progress: MutableSequence[float] | None = Non
             spec.steps,
         )
         scene = scenario.scene
+        # the ground the simulator has (the controllers keep the scenario's: flat)
+        simulated_ground = simulated_scene(scene, perturbation, spec.seed, spec.scale)
         summary.update(friction=scene.friction, mass_kg=robot.total_mass)
         hand_limb = hand_error_limb(scenario)
         hand_frame = None if hand_limb is None else robot.limb(hand_limb).contact_frame
@@ -364,7 +366,7 @@ def run_episode(spec: EpisodeSpec, progress: MutableSequence[float] | None = Non
     try:
         com_true_start = truth.com_position_world(initial)
         yaw_true[0] = yaw_of(initial.base_orientation_world)
-        measured = sensors = sim.reset(simulated, scene, initial)
+        measured = sensors = sim.reset(simulated, simulated_ground, initial)
         if sensor_model is not None:
             sensors = sensor_model.observe(measured)
         estimator.reset(initial, sensors)

@@ -14,7 +14,7 @@ nominal episode). What it changes, and where:
   amount, while the controller keeps the nominal model;
 - actuation: every joint's torque limit (`simulated_robot`) and the servo gains of every
   applied command (`sims.sensor_model.apply_gain_scale`) scaled;
-- ground (`robots.scene`): a seeded field of thin boxes of bounded height, and a slope.
+- ground (`ground_boxes`): a seeded field of thin boxes of bounded height, or a ramp.
 """
 
 from __future__ import annotations
@@ -24,6 +24,7 @@ from dataclasses import dataclass, fields, replace
 import numpy as np
 
 from robots.inertia import combined_inertial
+from robots.scene import Box, Scene
 from robots.spec import Inertial, RobotDescription
 
 PAYLOAD_HALF_EXTENT_M = 0.05
@@ -212,11 +213,88 @@ def predicted_com_shift(
     return payload_kg * (np.asarray(payload_world) - np.asarray(com_world)) / (total + payload_kg)
 
 
+GROUND_START_M = 0.2
+"""The uneven ground and the ramp begin this far [m, times the robot's scale] ahead of the
+standing robot's sole centres (its soles end 0.1 m ahead): every episode starts on flat
+ground, and a walk steps onto them with its first steps."""
+TILE_SIZE_M = 0.15  # [m] side of an uneven-ground tile (times the scale)
+TILE_FIELD_M = (3.0, 1.05)  # [m] length (from GROUND_START_M) and width of the tile field
+GROUND_STREAM = 7_005
+RAMP_HALF_EXTENTS_M = (2.0, 0.75, 0.05)  # [m] the ramp: 4 m long, 1.5 m wide, 0.1 m thick
+PAD_LENGTH_M = 4.0  # [m] the flat pad before a falling ramp (behind the robot)
+
+
+def simulated_scene(
+    scene: Scene, perturbation: Perturbation, seed: int, scale: float = 1.0
+) -> Scene:
+    """The scene the simulator runs: `scene` with the ground of `perturbation`, the same in
+    every simulator (the controller keeps `scene`: flat ground). The same scene when the
+    ground is nominal.
+
+    - ground_height_m > 0: a field of square tiles (side `TILE_SIZE_M`) from `GROUND_START_M`
+      ahead of the robot over `TILE_FIELD_M`, each as high as a uniform draw in (0, h]
+      (`default_rng([seed, GROUND_STREAM])`);
+    - slope_deg > 0: a ramp rising along +x at that angle whose top face starts at ground level
+      `GROUND_START_M` ahead (the flat ground stays behind it);
+    - slope_deg < 0: the same ramp falling, after a flat pad (a box, top at z = 0, from 4 m
+      behind to `GROUND_START_M` ahead) that replaces the ground plane (which would be above
+      the ramp).
+    Both at once are refused (one dimension at a time)."""
+    height, slope = perturbation.ground_height_m, perturbation.slope_deg
+    if height and slope:
+        raise ValueError("uneven ground and a slope at once are not supported; give one")
+    if height < 0:
+        raise ValueError(f"ground_height_m must not be negative, got {height:g}")
+    start = GROUND_START_M * scale
+    if height:
+        side = TILE_SIZE_M * scale
+        nx = round(TILE_FIELD_M[0] * scale / side)
+        ny = round(TILE_FIELD_M[1] * scale / side)
+        rng = np.random.default_rng([seed, GROUND_STREAM])
+        heights = height * (1.0 - rng.random((nx, ny)))  # (0, h]
+        tiles = tuple(
+            Box(
+                name=f"ground_tile_{i}_{j}",
+                center_world=(start + (i + 0.5) * side, (j + 0.5 - ny / 2) * side, h / 2),
+                half_extents=(side / 2, side / 2, h / 2),
+            )
+            for i in range(nx)
+            for j in range(ny)
+            for h in [float(heights[i, j])]
+        )
+        return replace(scene, boxes=(*scene.boxes, *tiles))
+    if not slope:
+        return scene
+    angle = np.radians(slope)
+    length, width, thickness = (x * scale for x in RAMP_HALF_EXTENTS_M)
+    top = np.array([start + length * np.cos(angle), 0.0, length * np.sin(angle)])
+    normal = np.array([-np.sin(angle), 0.0, np.cos(angle)])
+    centre = top - thickness * normal
+    # a rotation by -angle about y takes x to (cos, 0, sin): the ramp rises along +x
+    quaternion = (float(np.cos(-angle / 2)), 0.0, float(np.sin(-angle / 2)), 0.0)
+    ramp = Box(
+        name="ramp",
+        center_world=tuple(float(x) for x in centre),
+        half_extents=(length, width, thickness),
+        orientation_world=quaternion,
+    )
+    if slope > 0:
+        return replace(scene, boxes=(*scene.boxes, ramp))
+    pad_length = PAD_LENGTH_M * scale
+    pad = Box(
+        name="start_pad",
+        center_world=(start - pad_length / 2, 0.0, -thickness),
+        half_extents=(pad_length / 2, width, thickness),
+    )
+    return replace(scene, ground=False, boxes=(*scene.boxes, pad, ramp))
+
+
 __all__ = [
     "NOMINAL",
     "PERTURBATION_FIELDS",
     "Perturbation",
     "predicted_com_shift",
     "simulated_robot",
+    "simulated_scene",
     "torso_link",
 ]

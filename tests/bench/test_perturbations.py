@@ -23,6 +23,7 @@ from robots.perturbation import (
     Perturbation,
     predicted_com_shift,
     simulated_robot,
+    simulated_scene,
     torso_link,
 )
 from robots.robot_registry import make_robot
@@ -265,3 +266,73 @@ def test_the_main_jobs_digest_and_ids_are_those_before_robustness():
     episodes = spec.episodes()
     assert spec.digest() == "ffa92370b0e9"
     assert (len(episodes), episodes[5].episode_id) == (1414, "c1877594b2453ab7")
+
+
+def _ground_height(sim, x: float, y: float) -> float:
+    """The highest surface [m] under (x, y), by a ray cast down from 1 m in the simulator's own
+    collision world (MuJoCo `mj_ray`, PyBullet `rayTest`); nan if none."""
+    if sim.name == "mujoco":
+        import mujoco
+
+        geom = np.zeros(1, dtype=np.int32)
+        # every geom group, static geoms included, no body excluded: cast where no robot is
+        distance = mujoco.mj_ray(
+            sim.model,
+            sim.data,
+            np.array([x, y, 1.0]),
+            np.array([0.0, 0.0, -1.0]),
+            None,
+            1,
+            -1,
+            geom,
+        )
+        return np.nan if distance < 0 else 1.0 - distance
+    import pybullet as pb
+
+    hit = pb.rayTest([x, y, 1.0], [x, y, -1.0], physicsClientId=sim.client)[0]
+    return np.nan if hit[0] < 0 else hit[3][2]
+
+
+@pytest.mark.parametrize("sim_name", ["mujoco", "pybullet"])
+@pytest.mark.parametrize(
+    "perturbation",
+    [Perturbation(ground_height_m=0.02), Perturbation(slope_deg=5.0), Perturbation(slope_deg=-5.0)],
+    ids=lambda p: p.label(),
+)
+def test_the_simulated_ground_is_where_the_perturbation_puts_it(sim_name, perturbation):
+    """Rays cast down in each simulator's own world hit the tiles' tops and the ramp's plane
+    (z = (x - x0) tan(slope) from x0 = GROUND_START_M), and flat ground where the robot stands;
+    the controller's scene stays flat."""
+    from robots.perturbation import GROUND_START_M
+    from robots.scene import Scene
+    from sims.base import make_simulator
+
+    robot = humanoid()
+    flat = Scene()
+    scene = simulated_scene(flat, perturbation, seed=4)
+    assert simulated_scene(flat, Perturbation(), seed=4) is flat
+    sim = make_simulator(sim_name)
+    sim.reset(robot, scene, RobotModel(robot).standing_state())
+    try:
+        assert _ground_height(sim, 0.0, 0.6) == pytest.approx(0.0, abs=1e-6)  # beside the robot
+        if perturbation.ground_height_m:
+            tiles = [b for b in scene.boxes if b.name.startswith("ground_tile")]
+            heights = [2 * b.half_extents[2] for b in tiles]
+            assert len(tiles) == 20 * 7
+            assert min(heights) > 0.0
+            assert max(heights) <= 0.02
+            assert np.std(heights) > 0.004  # uniform on (0, 2 cm]: 5.8 mm
+            for box in tiles[::17]:
+                x, y, _ = box.center_world
+                assert _ground_height(sim, x, y) == pytest.approx(2 * box.half_extents[2], abs=1e-6)
+            again = simulated_scene(flat, perturbation, seed=4)
+            other = simulated_scene(flat, perturbation, seed=5)
+            assert again == scene
+            assert other != scene
+        else:
+            slope = np.radians(perturbation.slope_deg)
+            for x in (0.5, 1.0, 2.0):
+                expected = (x - GROUND_START_M) * np.tan(slope)
+                assert _ground_height(sim, x, 0.1) == pytest.approx(expected, abs=1e-6)
+    finally:
+        sim.close()
