@@ -550,6 +550,21 @@ def build_parser() -> argparse.ArgumentParser:
         help=f"trials of every push, 1 to {MAX_REPLICAS} (default 1); replicas after the first "
         "start with a small seeded change (the robust threshold takes 4 of 5)",
     )
+    sweep.add_argument(
+        "--push-swing-fractions",
+        type=_listed(
+            "--push-swing-fractions",
+            _number("every --push-swing-fractions value", 0.0, maximum=1.0),
+            "fractions in [0, 1]",
+        ),
+        help="walking pushes centred at these fractions of the single support (default 0.5)",
+    )
+    sweep.add_argument(
+        "--push-directions",
+        type=_names("--push-directions", "push directions"),
+        help="walking pushes: random (the --push-count uniform directions) and/or inward, "
+        "outward, forward, backward relative to the support foot (default random)",
+    )
     robustness = sweep.add_argument_group(
         "robustness dimensions (bench/robustness.py): each a comma-separated list of "
         "magnitudes, varied one dimension at a time around the nominal episode"
@@ -998,9 +1013,14 @@ def _sweep_mapping(args: argparse.Namespace) -> dict:
         if value is not None:
             push = push if isinstance(push, dict) else {}
             push[key] = value
-    if args.push_replicas is not None:
-        push = push if isinstance(push, dict) else {}
-        push["replicas"] = args.push_replicas
+    for flag, key in (
+        ("push_replicas", "replicas"),
+        ("push_swing_fractions", "swing_fractions"),
+        ("push_directions", "directions"),
+    ):
+        if getattr(args, flag) is not None:
+            push = push if isinstance(push, dict) else {}
+            push[key] = getattr(args, flag)
     if push is not None:
         data["push"] = push
     overrides: dict[str, list[float]] = {}  # a flag replaces the spec's list of its dimension

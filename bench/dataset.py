@@ -77,6 +77,8 @@ ROW_SCHEMA = pa.schema(
         ("push_step", _INT),
         ("push_impulse_Ns", _FLOAT),
         ("push_direction_deg", _FLOAT),
+        ("push_swing_fraction", _FLOAT),
+        ("push_direction_name", _STRING),
         ("replica", _INT),
         ("perturbation", _STRING),
         *[(name, _INT if name.endswith("delay") else _FLOAT) for name in PERTURBATION_FIELDS],

@@ -32,7 +32,7 @@ from typing import Any
 import numpy as np
 
 from bench.limits import MAX_EPISODE_SECONDS, MAX_PUSH_COUNT, MAX_PUSH_DV, SEED_LIMIT
-from bench.scenarios import WALK_STEPS
+from bench.scenarios import SUPPORT_DIRECTIONS, WALK_STEPS
 from robots.robot_registry import DEFAULT_ROBOT, make_robot
 
 PHASES = ("standing", "walking")
@@ -52,6 +52,11 @@ _FIELDS = {
     "pushed mid-way)",
     "replicas": f"a positive integer, at most {MAX_REPLICAS} (trials of every push, each but "
     "the first with a small seeded change of the initial state and the push time)",
+    "swing_fractions": "a list of fractions in [0, 1] of the pushed single support at which "
+    "walking pushes are centred (default [0.5], the middle)",
+    "directions": "a list of: random (the `count` uniform directions), "
+    + ", ".join(SUPPORT_DIRECTIONS)
+    + " (walking pushes relative to the support foot, one push each)",
 }
 
 
@@ -65,6 +70,8 @@ class PushProtocol:
     standing_push_time: float = 1.5
     walking_push_step: int = 3
     replicas: int = 1  # trials per push (`bench.runner.replica_changes`)
+    swing_fractions: tuple[float, ...] = (0.5,)  # walking pushes: where in the single support
+    directions: tuple[str, ...] = ("random",)  # walking pushes: random and/or support-relative
 
     @classmethod
     def from_mapping(cls, data: dict[str, Any]) -> PushProtocol:
@@ -96,6 +103,25 @@ class PushProtocol:
         seed = _integer("seed", data.get("seed", 0), 0, SEED_LIMIT - 1)
         step = _integer("walking_push_step", data.get("walking_push_step", 3), 1, WALK_STEPS)
         replicas = _integer("replicas", data.get("replicas", 1), 1, MAX_REPLICAS)
+        fractions = data.get("swing_fractions", [0.5])
+        if (
+            not isinstance(fractions, list)
+            or not fractions
+            or not all(
+                isinstance(f, int | float) and not isinstance(f, bool) and 0.0 <= f <= 1.0
+                for f in fractions
+            )
+        ):
+            raise ValueError(
+                f"swing_fractions' must be {_FIELDS['swing_fractions']}, got {fractions!r}"
+            )
+        directions = data.get("directions", ["random"])
+        if (
+            not isinstance(directions, list)
+            or not directions
+            or not all(d in ("random", *SUPPORT_DIRECTIONS) for d in directions)
+        ):
+            raise ValueError(f"directions' must be {_FIELDS['directions']}, got {directions!r}")
         survival = _number("survival_time", data.get("survival_time", 3.0), strict=True)
         push_time = _number("standing_push_time", data.get("standing_push_time", 1.5))
         if push_time + PUSH_DURATION + survival > MAX_EPISODE_SECONDS:
@@ -114,6 +140,8 @@ class PushProtocol:
             standing_push_time=push_time,
             walking_push_step=step,
             replicas=replicas,
+            swing_fractions=tuple(dict.fromkeys(float(f) for f in fractions)),
+            directions=tuple(dict.fromkeys(directions)),
         )
 
     def directions_deg(self) -> np.ndarray:
@@ -144,13 +172,37 @@ def robot_mass(scale: float, robot: str = DEFAULT_ROBOT) -> float:
 
 
 @functools.cache
-def walking_push_time(scale: float, step: int, robot: str = DEFAULT_ROBOT) -> float:
-    """Start [s] of the push in the middle of the walk's single-support phase `step`."""
+def walking_push_time(
+    scale: float, step: int, robot: str = DEFAULT_ROBOT, fraction: float | None = None
+) -> float:
+    """Start [s] of the push centred at `fraction` (None: 0.5, the middle) of the walk's
+    single-support phase `step`."""
     from bench.scenarios import make_scenario
     from robots.model import RobotModel
 
-    scenario = make_scenario("walk_push", RobotModel(make_robot(robot, scale)), push_step=step)
+    scenario = make_scenario(
+        "walk_push",
+        RobotModel(make_robot(robot, scale)),
+        push_step=step,
+        push_swing_fraction=fraction,
+    )
     return float(scenario.pushes[0].time)
+
+
+@functools.cache
+def walking_push_direction_deg(
+    scale: float, step: int, robot: str = DEFAULT_ROBOT, name: str = "inward"
+) -> float:
+    """World direction [deg] of the walking push `name` relative to the support foot of the
+    walk's single-support phase `step` (`bench.scenarios.support_direction_deg`)."""
+    from bench.scenarios import make_scenario
+    from robots.model import RobotModel
+
+    scenario = make_scenario(
+        "walk_push", RobotModel(make_robot(robot, scale)), push_step=step, push_direction_name=name
+    )
+    x, y, _ = scenario.pushes[0].impulse_world
+    return float(np.rad2deg(np.arctan2(y, x)) % 360.0)
 
 
 def push_episodes(protocol: PushProtocol, common: dict[str, Any]) -> Iterator[tuple[dict, Any]]:
@@ -169,24 +221,47 @@ def push_episodes(protocol: PushProtocol, common: dict[str, Any]) -> Iterator[tu
                 duration=protocol.standing_push_time + PUSH_DURATION + protocol.survival_time,
                 **common,
             )
-        else:
-            start = walking_push_time(common["scale"], protocol.walking_push_step, robot)
+            yield from _pushes(protocol, phase, base, mass, directions, ("random",))
+            continue
+        for fraction in protocol.swing_fractions:
+            start = walking_push_time(
+                common["scale"],
+                protocol.walking_push_step,
+                robot,
+                None if fraction == 0.5 else fraction,
+            )
             base = EpisodeSpec(
                 scenario="walk_push",
                 push_step=protocol.walking_push_step,
                 duration=start + PUSH_DURATION + protocol.survival_time,
+                push_swing_fraction=None if fraction == 0.5 else fraction,
                 **common,
             )
-        for dv in protocol.dv:
-            for index, direction in enumerate(directions):
+            yield from _pushes(protocol, phase, base, mass, directions, protocol.directions)
+
+
+def _pushes(
+    protocol: PushProtocol,
+    phase: str,
+    base: Any,
+    mass: float,
+    random_directions: np.ndarray,
+    directions: tuple[str, ...],
+) -> Iterator[tuple[dict, Any]]:
+    """Every level x direction x replica of one phase (and swing fraction) from `base`."""
+    for dv in protocol.dv:
+        for name in directions:
+            if name == "random":
+                pushes = [
+                    (index, {"push_direction_deg": round(float(direction), 9)})
+                    for index, direction in enumerate(random_directions)
+                ]
+            else:  # one push, relative to the support foot (`bench.scenarios.walk_push`)
+                pushes = [(None, {"push_direction_name": name})]
+            for index, fields in pushes:
                 labels = {"push_phase": phase, "push_dv_mps": dv, "push_index": index}
                 for replica in range(protocol.replicas):
                     yield (
                         labels,
-                        replace(
-                            base,
-                            push_impulse=round(mass * dv, 9),
-                            push_direction_deg=round(float(direction), 9),
-                            replica=replica,
-                        ),
+                        replace(base, push_impulse=round(mass * dv, 9), replica=replica, **fields),
                     )

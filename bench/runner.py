@@ -84,6 +84,8 @@ class EpisodeSpec:
     steps: int | None = None  # steps of walk / walk_push (None: their 10)
     robot: str = DEFAULT_ROBOT  # `robots.robot_registry`
     replica: int = 0  # > 0: a replica of the episode (`replica_changes`)
+    push_swing_fraction: float | None = None  # walk_push: where in the swing (None: 0.5)
+    push_direction_name: str | None = None  # walk_push: relative to the support foot
     perturbation: Perturbation | None = None  # None: nominal (`robots.perturbation`)
 
 
@@ -315,6 +317,8 @@ def run_episode(spec: EpisodeSpec, progress: MutableSequence[float] | None = Non
             spec.friction,
             spec.speed,
             spec.steps,
+            spec.push_swing_fraction,
+            spec.push_direction_name,
         )
         scene = scenario.scene
         # the ground the simulator has (the controllers keep the scenario's: flat)

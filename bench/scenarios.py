@@ -43,7 +43,7 @@ from bench.motions import (
     ladder_motion,
     moving_contacts_motion,
 )
-from centroidal.rotations import heading_quaternion
+from centroidal.rotations import heading_quaternion, yaw_of
 from robots.gait import GAIT_STEPS, GaitCommand
 from robots.model import RobotModel
 from robots.registry import FLAT_GROUND, MULTI_CONTACT
@@ -282,6 +282,26 @@ def walk_turn(model: RobotModel, duration: float | None = None, **_: object) -> 
     return walk(model, duration, WALK_TURN_GAIT, name="walk_turn")
 
 
+SUPPORT_DIRECTIONS = ("inward", "outward", "forward", "backward")
+"""Push directions relative to the support foot while walking (issue 21): inward (towards the
+swing foot's side), outward (away from it), forward and backward along the support foot's
+heading."""
+
+
+def support_direction_deg(contact: Contact, name: str) -> float:
+    """World direction [deg] (0 = +x, 90 = +y) of the push `name` (`SUPPORT_DIRECTIONS`)
+    relative to the support foot `contact`: its heading is forward; outward is to its own
+    side (left for the left foot), inward to the other."""
+    if name not in SUPPORT_DIRECTIONS:
+        raise ValueError(
+            f"unknown push direction {name!r}; choose one of: {', '.join(SUPPORT_DIRECTIONS)}"
+        )
+    heading = np.rad2deg(yaw_of(contact.orientation_world))
+    side = 90.0 if contact.limb.startswith("left") else -90.0  # outward from the support foot
+    offset = {"forward": 0.0, "backward": 180.0, "outward": side, "inward": -side}[name]
+    return float((heading + offset) % 360.0)
+
+
 def walk_push(
     model: RobotModel,
     duration: float | None = None,
@@ -290,15 +310,27 @@ def walk_push(
     push_step: int = 5,
     push_duration: float = 0.1,
     gait: GaitCommand = DEFAULT_GAIT,
+    push_swing_fraction: float = 0.5,
+    push_direction_name: str | None = None,
 ) -> Scenario:
+    """`walk` pushed in single support `push_step`, the push centred at `push_swing_fraction`
+    of it (0.5: the middle); towards `push_direction_deg`, or, when `push_direction_name` is
+    given, towards that direction relative to the support foot (`support_direction_deg`)."""
     base = walk(model, duration, gait)
     single = [p for p in base.phases if len(p.contacts) == 1]
     if not 1 <= push_step <= len(single):
         raise ValueError(f"push_step must be 1..{len(single)} (the walk's steps), got {push_step}")
+    if not 0.0 <= push_swing_fraction <= 1.0:
+        raise ValueError(f"push_swing_fraction must be in [0, 1], got {push_swing_fraction}")
     phase = single[push_step - 1]
-    mid = (phase.start + phase.end) / 2
+    if push_swing_fraction == 0.5:  # the middle, as computed before fractions existed
+        centre = (phase.start + phase.end) / 2
+    else:
+        centre = phase.start + push_swing_fraction * (phase.end - phase.start)
+    if push_direction_name is not None:
+        push_direction_deg = support_direction_deg(phase.contacts[0], push_direction_name)
     impulse = _horizontal_impulse(push_impulse, push_direction_deg)
-    push = PushEvent(mid - push_duration / 2, model.robot.base_link, impulse, push_duration)
+    push = PushEvent(centre - push_duration / 2, model.robot.base_link, impulse, push_duration)
     return Scenario(
         "walk_push",
         base.duration,
@@ -383,6 +415,8 @@ def make_scenario(
     friction: float | None = None,
     speed: float | None = None,
     steps: int | None = None,
+    push_swing_fraction: float | None = None,
+    push_direction_name: str | None = None,
 ) -> Scenario:
     """Build scenario `name` for `model`. Raises KeyError for an unknown name (listing the known
     ones) and ValueError for bad parameters. `push_time` [s] applies to `stand_push`,
@@ -416,10 +450,15 @@ def make_scenario(
         if not (np.isfinite(push_time) and push_time >= 0):
             raise ValueError(f"push_time must be >= 0 s, got {push_time}")
         kwargs["push_time"] = push_time
-    if push_step is not None:
-        if name != "walk_push":
-            raise ValueError(f"push_step applies to walk_push, not to {name!r}")
-        kwargs["push_step"] = push_step
+    for label, value in (
+        ("push_step", push_step),
+        ("push_swing_fraction", push_swing_fraction),
+        ("push_direction_name", push_direction_name),
+    ):
+        if value is not None:
+            if name != "walk_push":
+                raise ValueError(f"{label} applies to walk_push, not to {name!r}")
+            kwargs[label] = value
     if speed is not None:
         if name not in WALKS_WITH_SPEED:
             raise ValueError(f"speed applies to {', '.join(WALKS_WITH_SPEED)}, not to {name!r}")

@@ -22,6 +22,14 @@ A spec (every field but `controllers` and `sims` optional)::
     dv = [0.2, 0.3, 0.4]        # velocity change J / m [m/s] per level
     count = 20                  # pushes per level, directions uniform on the circle
     seed = 0                    # seed of the directions (the same for every controller)
+    replicas = 1                # trials of every push (robust threshold: 4 of 5)
+    swing_fractions = [0.5]     # walking pushes: where in the single support
+    directions = ["random"]     # walking pushes: and/or inward, outward, forward, backward
+
+    [robustness]                # one dimension at a time around the nominal episode
+    noise = [1, 2]              # (`bench.robustness`: noise, delay, payload_kg, com_offset_m,
+    delay = [1]                 #  mass_error, torque_scale, gain_scale, ground_height_m,
+                                #  slope_deg, ...)
 
 Validation happens before anything runs: a wrong spec raises `SpecError`, one message naming
 the field and what it accepts. The numeric ranges (seeds, scales, frictions, durations, push
@@ -58,6 +66,7 @@ from bench.push_protocol import (
     PUSH_DURATION,
     PushProtocol,
     push_episodes,
+    walking_push_direction_deg,
     walking_push_time,
 )
 from bench.robustness import parse_robustness, robustness_to_dict
@@ -90,7 +99,9 @@ class Episode:
     def labels(self) -> dict[str, Any]:
         push_time = self.run.push_time
         if push_time is None and self.run.push_step is not None:  # a walking push: its start
-            push_time = walking_push_time(self.run.scale, self.run.push_step)
+            push_time = walking_push_time(
+                self.run.scale, self.run.push_step, self.run.robot, self.run.push_swing_fraction
+            )
         return {
             "episode_id": self.episode_id,
             "controller": self.controller,
@@ -100,7 +111,19 @@ class Episode:
             "push_time_s": push_time,
             "push_step": self.run.push_step,
             "push_impulse_Ns": self.run.push_impulse,
-            "push_direction_deg": self.run.push_direction_deg,
+            "push_direction_deg": self.run.push_direction_deg
+            if self.run.push_direction_name is None
+            else walking_push_direction_deg(
+                self.run.scale, self.run.push_step, self.run.robot, self.run.push_direction_name
+            ),
+            "push_swing_fraction": (
+                None
+                if self.run.push_step is None
+                else 0.5
+                if self.run.push_swing_fraction is None
+                else self.run.push_swing_fraction
+            ),
+            "push_direction_name": self.run.push_direction_name,
         }
 
 
@@ -130,8 +153,14 @@ class SweepSpec:
     def to_dict(self) -> dict[str, Any]:
         data = asdict(self)
         data.pop("extra")
-        if self.push is not None and self.push.replicas == 1:  # as before replicas existed
-            data["push"].pop("replicas")
+        if self.push is not None:  # the protocol's later fields at their defaults: as before
+            for name, default in (
+                ("replicas", 1),
+                ("swing_fractions", (0.5,)),
+                ("directions", ("random",)),
+            ):
+                if getattr(self.push, name) == default:
+                    data["push"].pop(name)
         if self.perturbations == (None,):  # as before robustness existed
             data.pop("perturbations")
         else:
@@ -215,6 +244,8 @@ LATER_FIELDS = {
     "robot": DEFAULT_ROBOT,
     "replica": 0,
     "perturbation": None,
+    "push_swing_fraction": None,
+    "push_direction_name": None,
 }
 
 
@@ -516,8 +547,10 @@ def _check_walking_push(
     """A walking push's episode (the walk up to mid single support `walking_push_step`, the
     push, `survival_time`) must fit MAX_EPISODE_SECONDS at every scale (the walk's steps
     last longer on a larger robot)."""
-    for robot, scale in itertools.product(robots, scales):
-        start = walking_push_time(scale, push.walking_push_step, robot)
+    for robot, scale, fraction in itertools.product(robots, scales, push.swing_fractions):
+        start = walking_push_time(
+            scale, push.walking_push_step, robot, None if fraction == 0.5 else fraction
+        )
         end = start + PUSH_DURATION + push.survival_time
         if end > MAX_EPISODE_SECONDS:
             raise SpecError(

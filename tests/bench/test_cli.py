@@ -216,6 +216,14 @@ def refused(argv: list[str], capsys) -> str:
         ([*SWEEP, "--gain-scale", "nan"], "--gain-scale must list finite numbers, got 'nan'"),
         ([*SWEEP, "--mass-error", "1"], "'robustness.mass_error' must be a list of numbers in"),
         ([*SWEEP, "--push-dv", "0.2", "--push-replicas", "0"], "--push-replicas must be an"),
+        (
+            [*SWEEP, "--push-dv", "0.2", "--push-directions", "sideways"],
+            "'push.directions' must be a list of: random",
+        ),
+        (
+            [*SWEEP, "--push-dv", "0.2", "--push-swing-fractions", "1.5"],
+            "every --push-swing-fractions value must be in [0, 1], got '1.5'",
+        ),
         # the sweep's size, from its axes
         (
             [*SWEEP, "--push-dv", "1", "--push-count", "10000", "--seeds", SEEDS_0_TO_100],
@@ -372,11 +380,14 @@ def test_robustness_flags_make_the_specs_table(monkeypatch, tmp_path):
     monkeypatch.chdir(tmp_path)
     argv = [*SWEEP, "--noise", "1,imu=4", "--delay", "2", "--payload-kg", "5"]
     argv += ["--push-dv", "0.2", "--push-count", "2", "--push-replicas", "5"]
+    argv += ["--push-swing-fractions", "0.2,0.7", "--push-directions", "random,inward"]
     with pytest.raises(Ran):
         main(argv)
     (spec,) = seen
     labels = [(p.label() if p else "nominal") for p in spec.perturbations]
     assert labels == ["nominal", "noise=1", "noise_imu=4", "delay=2", "payload_kg=5"]
     assert spec.push.replicas == 5
+    assert spec.push.swing_fractions == (0.2, 0.7)
+    assert spec.push.directions == ("random", "inward")
     # 5 perturbations x (1 stand + 2 pushes x 5 replicas)
     assert len(spec.episodes()) == 5 * (1 + 2 * 5)

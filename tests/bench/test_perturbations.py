@@ -336,3 +336,59 @@ def test_the_simulated_ground_is_where_the_perturbation_puts_it(sim_name, pertur
                 assert _ground_height(sim, x, 0.1) == pytest.approx(expected, abs=1e-6)
     finally:
         sim.close()
+
+
+def test_walking_pushes_at_swing_fractions_and_support_relative_directions():
+    push = {
+        "phases": ["walking"],
+        "dv": [0.3],
+        "count": 2,
+        "swing_fractions": [0.2, 0.5, 0.7],
+        "directions": ["random", "inward", "outward", "forward", "backward"],
+    }
+    base = {"controllers": ["preview_control+centroidal_feedback"], "sims": ["mujoco"]}
+    episodes = spec_from_mapping({**base, "push": push}).episodes()
+    assert len(episodes) == 3 * (2 + 4)  # fractions x (random directions + named ones)
+    labels = [e.labels() for e in episodes]
+    assert sorted({label["push_swing_fraction"] for label in labels}) == [0.2, 0.5, 0.7]
+    named = {label["push_direction_name"]: label for label in labels[2:6]}
+    # step 3 is a left-foot support (the walk starts on the right foot): inward is -y
+    assert named["inward"]["push_direction_deg"] == pytest.approx(270.0)
+    assert named["outward"]["push_direction_deg"] == pytest.approx(90.0)
+    assert named["forward"]["push_direction_deg"] == pytest.approx(0.0)
+    assert named["backward"]["push_direction_deg"] == pytest.approx(180.0)
+    # the default protocol: as before (middle of the swing, random directions only)
+    plain = spec_from_mapping({**base, "push": {"phases": ["walking"], "dv": [0.3]}})
+    assert "swing_fractions" not in plain.to_dict()["push"]
+    assert {e.run.push_swing_fraction for e in plain.episodes()} == {None}
+
+
+@pytest.mark.parametrize("step", range(1, 11))
+def test_support_relative_pushes_point_where_their_names_say(step):
+    """In every single support of the walk: the inward push points to the side of the other
+    foot (its last and next footholds), the forward push along the support sole's x axis,
+    and a push at fraction f of the single support is centred at start + f (end - start)."""
+    from bench.scenarios import make_scenario
+    from robots.scene import ContactPhase
+
+    model = RobotModel(humanoid())
+    scenario = make_scenario("walk_push", model, push_step=step, push_direction_name="inward")
+    single = [p for p in scenario.phases if len(p.contacts) == 1]
+    phase: ContactPhase = single[step - 1]
+    support = phase.contacts[0]
+    others = [
+        c.position_world
+        for p in scenario.phases
+        for c in p.contacts
+        if c.limb != support.limb and abs(p.start - phase.start) < 2.0
+    ]
+    impulse = np.array(scenario.pushes[0].impulse_world)
+    lateral = np.mean(others, axis=0)[1] - support.position_world[1]
+    assert np.sign(impulse[1]) == np.sign(lateral)
+    assert abs(impulse[0]) < 1e-9 * np.linalg.norm(impulse)
+    forward = make_scenario("walk_push", model, push_step=step, push_direction_name="forward")
+    assert forward.pushes[0].impulse_world[0] > 0
+    late = make_scenario("walk_push", model, push_step=step, push_swing_fraction=0.7)
+    push = late.pushes[0]
+    centre = phase.start + 0.7 * (phase.end - phase.start)
+    assert push.time + push.duration / 2 == pytest.approx(centre, abs=1e-12)
