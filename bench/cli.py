@@ -627,6 +627,27 @@ def build_parser() -> argparse.ArgumentParser:
     report.add_argument(
         "--benchmark-json", default=None, help="a pytest-benchmark JSON file to add as a table"
     )
+    report.add_argument(
+        "--replays",
+        action="store_true",
+        help="first make the replays the report offers (one walk and the first fall per "
+        "controller: each episode runs again) into OUT/replays/",
+    )
+
+    replay = commands.add_parser(
+        "replay",
+        help="run a recorded episode again and draw it: the robot and the scene in 3-D with "
+        "time, CoM, ZMP and contact forces, as an HTML page with a player (or a GIF)",
+    )
+    replay.add_argument("results", help="the sweep's result directory")
+    replay.add_argument("episode_id", help="the episode's id (the report and the rows name it)")
+    replay.add_argument("--out", required=True, help="the file to write: .html or .gif")
+    replay.add_argument(
+        "--fps",
+        type=_number("--fps", 0.0, strict=True, maximum=500.0),
+        default=10.0,
+        help="frames per simulated second (default 10; at most 500, one per control period)",
+    )
     return parser
 
 
@@ -1121,10 +1142,43 @@ def _speed(args: argparse.Namespace) -> int:
     return 0
 
 
+def _replay(args: argparse.Namespace) -> int:
+    from bench.replay import ReplayError, replay
+
+    try:
+        path = replay(args.results, args.episode_id, args.out, fps=args.fps)
+    except ReplayError as exc:
+        raise UsageError(str(exc)) from None
+    except OSError as exc:
+        raise _write_failed("--out", args.out, exc) from None
+    print(path)
+    return 0
+
+
+def _make_replays(results: list[str], out: str) -> None:
+    """The replays the report offers (`reports.robustness.replay_choices`), into
+    OUT/replays/: each episode runs again; one that cannot be replayed is reported on stderr
+    and left out."""
+    from bench.replay import ReplayError, replay
+    from reports.build import read_all_results
+    from reports.robustness import REPLAY_FOLDER, replay_choices
+
+    episodes, _, _ = read_all_results([Path(r) for r in results])
+    for choice in replay_choices(episodes).itertuples():
+        target = Path(out) / REPLAY_FOLDER / f"{choice.episode_id}.html"
+        print(f"replay of {choice.controller} ({choice.what}) -> {target}", file=sys.stderr)
+        try:
+            replay(choice.results_dir or results[0], choice.episode_id, target)
+        except ReplayError as exc:
+            print(f"centrobench: replay of {choice.episode_id} left out: {exc}", file=sys.stderr)
+
+
 def _report(args: argparse.Namespace) -> int:
     from reports.build import build_report
 
     out = args.out or args.results[0]
+    if args.replays:
+        _make_replays(args.results, out)
     try:
         paths = build_report(args.results, out, benchmark_json=args.benchmark_json)
     except FileNotFoundError as exc:
@@ -1154,6 +1208,7 @@ def main(argv: Sequence[str] | None = None) -> int:
             "compare": _compare,
             "sweep": _sweep,
             "report": _report,
+            "replay": _replay,
             "speed": _speed,
         }
         status = commands[args.command](args)

@@ -59,6 +59,7 @@ PROGRESS_STAGES = ("setup", *STAGES)
 CONTROL_STAGES = STAGES[:-1]
 CENTROIDAL_STAGES = ("reference", "preview", "projection", "distribution")  # Table IV rows
 AXES = ("fx", "fy", "fz", "mx", "my", "mz")
+WXYZ = ("w", "x", "y", "z")
 _NO_TARGET = (math.nan, math.nan, math.nan)  # hand_target_* while no target is active
 
 
@@ -248,8 +249,16 @@ def clear_setup_caches() -> None:
     clear_backend_caches()
 
 
-def run_episode(spec: EpisodeSpec, progress: MutableSequence[float] | None = None) -> EpisodeResult:
+def run_episode(
+    spec: EpisodeSpec,
+    progress: MutableSequence[float] | None = None,
+    record_configuration: bool = False,
+) -> EpisodeResult:
     """Run one episode; never raises for a controller or simulator failure.
+
+    `record_configuration`: the trace also holds the ground-truth configuration every period
+    (`base_position_true_*`, `base_orientation_true_{w,x,y,z}`, `q_true_<joint>`), for a
+    replay (`bench.replay`).
 
     `progress` (two floats, for example shared memory that a sweep's parent process reads
     when an episode overruns its wall-clock budget): [0] the index in `PROGRESS_STAGES` of the
@@ -435,6 +444,10 @@ def run_episode(spec: EpisodeSpec, progress: MutableSequence[float] | None = Non
             recorder.observe(t, state.contact_flag_limb.tolist())
             planned_steps.observe(t, plan.footsteps)
             _record(trace, t, state, plan, targets, timings)
+            if record_configuration:
+                trace.put_vector("base_position_true", true_state.base_position_world)
+                trace.put_vector("base_orientation_true", true_state.base_orientation_world, WXYZ)
+                trace.put_vector("q_true", true_state.joint_position, robot.joint_names)
             trace.put_vector("com_true", com_true[0])
             trace.put_vector("com_velocity_true", com_true[1])
             trace.put("zmp_margin_m", support.margin(plan))

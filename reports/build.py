@@ -15,7 +15,7 @@ from pathlib import Path
 import pandas as pd
 import pyarrow.parquet as pq
 
-from reports import plots, tables
+from reports import plots, robustness, tables
 
 TITLE = "centrobench report"
 
@@ -190,6 +190,17 @@ def sections(
             tables.projection_table(episodes),
         ),
     ]
+    headline = robustness.headline_survival(episodes)
+    if len(headline):
+        result.append(
+            (
+                "Push survival over all levels, both simulators",
+                "Per controller and push phase: the protocol's pushes survived over all levels "
+                "in each simulator, with the 95 % Wilson interval, and the band between the two "
+                "simulators' rates [%].",
+                headline,
+            )
+        )
     for phase in ("standing", "walking"):
         table = tables.survival_table(episodes, phase)
         if len(table):
@@ -206,6 +217,20 @@ def sections(
                     table,
                 )
             )
+    result += _robustness_sections(episodes)
+    replays = robustness.replay_choices(episodes)
+    if len(replays):
+        result.append(
+            (
+                "Replays",
+                "One walk and the first fall of each controller, to watch: the robot and the "
+                "scene in 3-D with the time, CoM, ZMP and contact forces (`centrobench replay "
+                "RESULTS EPISODE_ID --out FILE` runs the episode again and draws it; "
+                "`centrobench report --replays` makes these into the report's "
+                f"{robustness.REPLAY_FOLDER}/ folder). replay: the file, where it was made.",
+                replays.drop(columns=["results_dir"]),
+            )
+        )
     result += [
         (
             "Walking quality (Ficht & Behnke eq. 18)",
@@ -243,6 +268,74 @@ def sections(
                 f"From {benchmark.get('machine_info', {}).get('cpu', {}).get('brand_raw', '?')}, "
                 f"{benchmark.get('datetime', '?')}.",
                 tables.benchmark_table(benchmark),
+            )
+        )
+    return result
+
+
+def _robustness_sections(episodes: pd.DataFrame) -> list[tuple[str, str, pd.DataFrame]]:
+    """The robustness sections (issue 21), those that have episodes."""
+    result = []
+    thresholds = robustness.robust_threshold_table(episodes)
+    if len(thresholds):
+        result.append(
+            (
+                "Robust push thresholds",
+                "Per push (a direction, and for walking pushes a swing fraction), the largest "
+                "level dv [m/s] survived in at least 4 of its 5 replicas at that level and at "
+                "every level below (0 when the lowest level is not); replicas differ by a "
+                "small seeded change of the initial state (base velocity, 1 cm/s) and the push "
+                "time (within 20 ms). Median, min and max over the pushes; incomplete: pushes "
+                "without 5 judged replicas at every level.",
+                thresholds,
+            )
+        )
+    for phase in ("standing", "walking"):
+        paired = robustness.paired_comparisons(episodes, phase)
+        if len(paired):
+            result.append(
+                (
+                    f"Paired comparisons, {phase} pushes",
+                    "Two controllers on the same pushes (level, direction) in one simulator: "
+                    "only A / only B are the pushes one survived and the other did not; p is "
+                    "the exact McNemar test (two-sided binomial test of only A out of the "
+                    "discordant pushes at 1/2). Most significant first.",
+                    paired,
+                )
+            )
+    directions = robustness.direction_table(episodes)
+    if len(directions):
+        result.append(
+            (
+                "Walking pushes by timing and direction",
+                "Walking pushes centred at a fraction of the single support, inward, outward, "
+                "forward or backward relative to the support foot (or in the protocol's random "
+                "directions): survived over all levels and replicas, with the 95 % Wilson "
+                "interval.",
+                directions,
+            )
+        )
+    degradation = robustness.degradation_table(episodes)
+    if len(degradation):
+        result.append(
+            (
+                "Degradation along the robustness dimensions",
+                "One dimension at a time (sensor noise in multiples of the data sheets', "
+                "delays in control periods, model errors, actuation, ground): survival with "
+                "the 95 % Wilson interval and the median CoM tracking error [mm], per protocol "
+                "(the pushes, or the plain scenario: survived = no fall); the nominal episodes "
+                "are each dimension's nominal magnitude.",
+                degradation[
+                    [*tables.KEYS, "protocol", "dimension", "magnitude", "survival", "com_rms_mm"]
+                ],
+            )
+        )
+        result.append(
+            (
+                "Where each controller loses half of its survival",
+                "Per dimension: the nominal survival and the first magnitude (moving away from "
+                "the nominal one) at which the survival rate is at most half of it.",
+                robustness.half_survival_table(degradation),
             )
         )
     return result
@@ -313,6 +406,10 @@ def build_report(
         if (stats := tables.solve_time_stats(trace, plots.HIERARCHY_TIME_COLUMN))
     }
     parts = sections(episodes, benchmark, survival_time_s(record), solve_times)
+    parts = [
+        (title, text, _with_replay_files(table, out) if title == "Replays" else table)
+        for title, text, table in parts
+    ]
     trials = [t for t in (_speed_trials(root, notes) for root in roots) if t is not None]
     speed = pd.concat(trials, ignore_index=True) if trials else None
     if speed is not None:
@@ -333,6 +430,16 @@ def build_report(
         figures.append(
             ("Standing push survival against dv", plots.survival_plot(rates, out / "survival.png"))
         )
+    degradation = robustness.degradation_table(episodes)
+    for dimension in sorted(set(degradation.get("dimension", []))):
+        figures.append(
+            (
+                f"Degradation: {dimension}",
+                plots.degradation_plot(
+                    degradation, dimension, out / f"degradation_{dimension}.png"
+                ),
+            )
+        )
     walk_traces = _walk_traces(episodes, notes)
     if walk_traces:
         figures.append(
@@ -349,6 +456,18 @@ def build_report(
     page = out / "report.html"
     page.write_text(_html(info, parts, figures))
     return [md, page, *(path for _, path in figures)]
+
+
+def _with_replay_files(table: pd.DataFrame, out: Path) -> pd.DataFrame:
+    """The replays table with the column `replay`: the file's path relative to the report
+    where `centrobench report --replays` (or the user) made it, else empty."""
+    folder = robustness.REPLAY_FOLDER
+    return table.assign(
+        replay=[
+            f"{folder}/{episode}.html" if (out / folder / f"{episode}.html").exists() else ""
+            for episode in table["episode_id"]
+        ]
+    )
 
 
 def _walk_traces(episodes: pd.DataFrame, notes: list[str]) -> dict[str, pd.DataFrame]:

@@ -48,6 +48,43 @@ def survival_plot(rates: pd.DataFrame, path: str | Path) -> Path:
     return path
 
 
+def degradation_plot(degradation: pd.DataFrame, dimension: str, path: str | Path) -> Path:
+    """One robustness dimension (`reports.robustness.degradation_table`): survival against
+    the magnitude with its 95 % Wilson interval as error bars, and the median CoM tracking
+    error, one line per controller x simulator x protocol."""
+    path = Path(path)
+    rows = degradation[degradation["dimension"] == dimension]
+    figure, (survival, tracking) = plt.subplots(1, 2, figsize=(11, 4.2))
+    styles = {"mujoco": "-o", "pybullet": "--s"}
+    for (controller, sim, protocol), group in rows.groupby(
+        ["controller", "sim", "protocol"], sort=True
+    ):
+        group = group.sort_values("magnitude")
+        label = f"{controller} ({sim}, {protocol})"
+        errors = np.vstack([group["rate"] - group["low"], group["high"] - group["rate"]])
+        survival.errorbar(
+            group["magnitude"],
+            group["rate"],
+            yerr=errors,
+            fmt=styles.get(sim, "-x"),
+            capsize=3,
+            label=label,
+        )
+        tracking.plot(group["magnitude"], group["com_rms_mm"], styles.get(sim, "-x"), label=label)
+    survival.set_xlabel(dimension)
+    survival.set_ylabel("survived (fraction, 95 % Wilson interval)")
+    survival.set_ylim(-0.05, 1.05)
+    tracking.set_xlabel(dimension)
+    tracking.set_ylabel("CoM tracking error, median RMS [mm]")
+    for axis in (survival, tracking):
+        axis.grid(alpha=0.3)
+    survival.legend(fontsize=6, loc="lower left")
+    figure.tight_layout()
+    figure.savefig(path, dpi=110)
+    plt.close(figure)
+    return path
+
+
 def walk_plot(traces: Mapping[str, pd.DataFrame], path: str | Path) -> Path:
     """Murooka Fig. 3 style: the CoM (reference, planned, actual) and the ZMP (planned,
     actual) along x and y against time, one row per controller."""

@@ -16,6 +16,7 @@ from collections.abc import Mapping
 import numpy as np
 import pandas as pd
 
+from reports.robustness import nominal, protocol_pushes
 from reports.statistics import fraction_cell, wilson_interval
 
 KEYS = ["controller", "sim"]
@@ -39,11 +40,14 @@ PROJECTION_COLUMNS = (
 
 
 def walks(episodes: pd.DataFrame) -> pd.DataFrame:
-    return episodes[(episodes["scenario"] == "walk") & episodes["push_phase"].isna()]
+    """The nominal walks (`reports.robustness.nominal`): scenario walk without a push."""
+    rows = nominal(episodes)
+    return rows[(rows["scenario"] == "walk") & rows["push_phase"].isna()]
 
 
 def pushes(episodes: pd.DataFrame, phase: str) -> pd.DataFrame:
-    return episodes[episodes["push_phase"] == phase]
+    """The pushes of the protocol in `phase` (`reports.robustness.protocol_pushes`)."""
+    return protocol_pushes(episodes, phase)
 
 
 def latency_table(episodes: pd.DataFrame) -> pd.DataFrame:
@@ -272,7 +276,8 @@ SOLVE_STATS = ("mean", "p99", "max")
 
 def reaches(episodes: pd.DataFrame) -> pd.DataFrame:
     """The rows of Sherikov et al. 2014's Tests 1 and 2 (scenarios `reach`, `reach_push`)."""
-    return episodes[episodes["scenario"].isin(REACH_SCENARIOS)]
+    rows = nominal(episodes)
+    return rows[rows["scenario"].isin(REACH_SCENARIOS)]
 
 
 def solve_time_stats(trace: pd.DataFrame, column: str = "t_hierarchy_us") -> dict[str, float]:

@@ -1,0 +1,228 @@
+"""The report's robustness sections on a hand-made fixture: degradation with intervals, where
+half the survival is lost, robust thresholds from 5 replicas, paired comparisons (scipy's
+exact test), walking pushes by timing and direction, the simulator band; and perturbed
+episodes stay out of the nominal tables."""
+
+from __future__ import annotations
+
+import json
+from pathlib import Path
+
+import pandas as pd
+import pytest
+from scipy import stats
+
+from bench.dataset import ROW_SCHEMA, ResultStore
+from reports import robustness, tables
+from reports.build import build_report
+from reports.statistics import fraction_cell
+
+LEVELS = (0.2, 0.3, 0.4)
+# replicas survived out of 5, per controller and level, for push 0 (push 1: all survive)
+REPLICAS = {"a+x": (5, 4, 2), "b+y": (5, 5, 4)}
+# standing pushes survived out of 10 per controller at noise 0 (nominal), 1 and 2
+NOISE = {"a+x": (10, 6, 2), "b+y": (10, 9, 8)}
+
+
+def _row(**values) -> dict:
+    row = {name: None for name in ROW_SCHEMA.names}
+    row.update(
+        versions_json=json.dumps({"mujoco": "4.0.0"}),
+        git_commit="abc123",
+        cpu="test CPU",
+        seed=0,
+        scale=1.0,
+        mass_kg=50.0,
+        status="ok",
+        fell=False,
+        perturbation="nominal",
+        replica=0,
+        com_error_rms_m=0.004,
+    )
+    row.update(values)
+    row["episode_id"] = "e" + str(abs(hash(json.dumps(values, sort_keys=True, default=str))))
+    return row
+
+
+def _push(controller, sim, dv, index, alive, **values) -> dict:
+    return _row(
+        controller=controller,
+        sim=sim,
+        scenario="stand_push",
+        push_phase="standing",
+        push_dv_mps=dv,
+        push_index=index,
+        push_impulse_Ns=50.0 * dv,
+        status="ok" if alive else "fell",
+        fell=not alive,
+        survived=alive,
+        **values,
+    )
+
+
+def fixture_rows() -> list[dict]:
+    rows = []
+    for controller in REPLICAS:
+        for sim in ("mujoco", "pybullet"):
+            for level, survived in zip(LEVELS, REPLICAS[controller], strict=True):
+                for replica in range(5):
+                    rows.append(
+                        _push(controller, sim, level, 0, replica < survived, replica=replica)
+                    )
+                    rows.append(_push(controller, sim, level, 1, True, replica=replica))
+        for magnitude, survived in zip((1, 2), NOISE[controller][1:], strict=True):
+            for index in range(10):
+                rows.append(
+                    _push(
+                        controller,
+                        "mujoco",
+                        0.2,
+                        100 + index,
+                        index < survived,
+                        perturbation=f"noise={magnitude}",
+                        noise_encoders=magnitude,
+                        noise_imu=magnitude,
+                        noise_ft=magnitude,
+                        com_error_rms_m=0.004 * (1 + magnitude),
+                    )
+                )
+        for index in range(10):  # the nominal pushes of the noise curve
+            rows.append(_push(controller, "mujoco", 0.2, 100 + index, True))
+        for name, alive in (("inward", False), ("outward", True)):
+            rows.append(
+                _row(
+                    controller=controller,
+                    sim="mujoco",
+                    scenario="walk_push",
+                    push_phase="walking",
+                    push_dv_mps=0.3,
+                    push_direction_name=name,
+                    push_swing_fraction=0.2,
+                    status="ok" if alive else "fell",
+                    survived=alive,
+                )
+            )
+    return rows
+
+
+@pytest.fixture(scope="module")
+def episodes() -> pd.DataFrame:
+    return pd.DataFrame(fixture_rows())
+
+
+def test_degradation_has_intervals_and_the_nominal_point(episodes):
+    table = robustness.degradation_table(episodes)
+    assert set(table["sim"]) == {"mujoco"}  # the only simulator with noise episodes
+    noise = table[(table["controller"] == "a+x") & (table["dimension"] == "noise")]
+    noise = noise[noise["protocol"] == "standing push"].sort_values("magnitude")
+    assert list(noise["magnitude"]) == [0.0, 1.0, 2.0]
+    # nominal: the 10 pushes of the curve plus the replica-0 protocol pushes at 0.2 / 0.3 /
+    # 0.4 m/s (2 per level: push 0 survived at every level's replica 0, push 1 too)
+    assert list(noise["episodes"]) == [10 + 2 * 3, 10, 10]
+    assert list(noise["survived"]) == [16, 6, 2]
+    assert noise.iloc[1]["survival"] == fraction_cell(6, 10)
+    assert noise.iloc[2]["com_rms_mm"] == pytest.approx(12.0)
+
+
+def test_half_survival_is_the_first_magnitude_at_half_the_nominal_rate(episodes):
+    half = robustness.half_survival_table(robustness.degradation_table(episodes))
+    rows = half[(half["dimension"] == "noise") & (half["protocol"] == "standing push")]
+    by_controller = dict(zip(rows["controller"], rows["half at"], strict=True))
+    assert by_controller == {"a+x": "2", "b+y": "beyond 2"}  # 2/10 <= 1/2; 8/10 > 1/2
+
+
+def test_robust_thresholds_take_4_of_5_replicas_at_every_level(episodes):
+    table = robustness.robust_threshold_table(episodes)
+    table = table[table["sim"] == "mujoco"].set_index("controller")
+    # a+x push 0: 5, 4, 2 of 5 -> 0.3; push 1 all -> 0.4: median 0.35, min 0.3
+    assert table.loc["a+x", "min dv m/s"] == pytest.approx(0.3)
+    assert table.loc["a+x", "max dv m/s"] == pytest.approx(0.4)
+    assert table.loc["a+x", "median dv m/s"] == pytest.approx(0.35)
+    # b+y push 0: 5, 5, 4 of 5 -> 0.4
+    assert table.loc["b+y", "min dv m/s"] == pytest.approx(0.4)
+    assert table.loc["a+x", "pushes"] == 2
+
+
+def test_paired_comparison_equals_scipys_exact_test(episodes):
+    table = robustness.paired_comparisons(episodes, "standing")
+    row = table[table["sim"] == "mujoco"].iloc[0]
+    assert (row["controller A"], row["controller B"]) == ("a+x", "b+y")
+    # the protocol pushes (replica 0, nominal): every one survived by both -> no discordant
+    assert (row["only A"], row["only B"], row["p"]) == (0, 0, 1.0)
+    perturbed = pd.DataFrame(fixture_rows())
+    perturbed = perturbed[perturbed["perturbation"] == "noise=2"].assign(perturbation="nominal")
+    table = robustness.paired_comparisons(perturbed, "standing")
+    row = table.iloc[0]
+    assert (row["only A"], row["only B"]) == (0, 6)  # b+y survives 8, a+x the first 2 of them
+    assert row["p"] == pytest.approx(stats.binomtest(0, 6).pvalue)
+
+
+def test_direction_table_and_the_simulator_band(episodes):
+    directions = robustness.direction_table(episodes)
+    cells = directions.set_index(["controller", "direction"])["survival"]
+    assert cells[("a+x", "inward")] == fraction_cell(0, 1)
+    assert cells[("a+x", "outward")] == fraction_cell(1, 1)
+    headline = robustness.headline_survival(episodes).set_index("controller")
+    # a+x protocol pushes (replica 0): mujoco 6 + 10 nominal noise-curve pushes all survived
+    assert headline.loc["a+x", "mujoco"] == fraction_cell(16, 16)
+    assert headline.loc["a+x", "pybullet"] == fraction_cell(6, 6)
+    assert headline.loc["a+x", "band %"] == "100-100"
+
+
+def test_perturbed_episodes_stay_out_of_the_nominal_tables(episodes):
+    table = tables.survival_rates(episodes, "standing")
+    row = table[(table["controller"] == "a+x") & (table["sim"] == "mujoco")]
+    # level 0.2: 2 protocol pushes + the 10 nominal pushes of the noise curve, no replicas
+    assert list(row["pushes"]) == [12, 2, 2]
+
+
+def test_report_has_every_robustness_section(tmp_path: Path):
+    root = tmp_path / "results"
+    store = ResultStore(root)
+    store.prepare({"name": "robust"}, "digest", resume=False, overwrite=False)
+    for row in fixture_rows():
+        store.write(row, None)
+    paths = build_report(root, tmp_path / "report")
+    markdown = (tmp_path / "report" / "report.md").read_text()
+    for title in (
+        "Push survival over all levels, both simulators",
+        "Robust push thresholds",
+        "Paired comparisons, standing pushes",
+        "Walking pushes by timing and direction",
+        "Degradation along the robustness dimensions",
+        "Where each controller loses half of its survival",
+    ):
+        assert f"## {title}" in markdown, title
+    assert "degradation_noise.png" in {p.name for p in paths}
+
+
+def test_replays_offered_are_one_walk_and_the_first_fall_per_controller(tmp_path: Path):
+    records = [
+        _row(controller="a+x", sim="pybullet", scenario="walk", seed=2),
+        _row(controller="a+x", sim="mujoco", scenario="walk", seed=1),
+        _push("a+x", "mujoco", 0.4, 3, False),
+        _push("a+x", "pybullet", 0.3, 7, False),  # the lowest level that fell
+        _push("a+x", "mujoco", 0.3, 9, False),
+        _push("a+x", "mujoco", 0.2, 1, False, perturbation="noise=2"),  # not nominal
+        _push("b+y", "mujoco", 0.2, 0, True),
+    ]
+    rows = pd.DataFrame(records)
+    choices = robustness.replay_choices(rows)
+    a = choices[choices["controller"] == "a+x"].set_index("what")
+    assert a.loc["walk", "sim"] == "mujoco"
+    first = a.loc["first fall (stand_push, dv 0.3 m/s)"]
+    assert (first["sim"], first["episode_id"]) == ("pybullet", rows.iloc[3]["episode_id"])
+    assert list(choices["controller"]) == ["a+x", "a+x"]  # b+y: no walk, no fall
+    # the report lists them, with the file where one was made
+    root = tmp_path / "results"
+    store = ResultStore(root)
+    store.prepare({"name": "replays"}, "d", resume=False, overwrite=False)
+    for row in records:
+        store.write(row, None)
+    made = tmp_path / "report" / "replays" / f"{rows.iloc[1]['episode_id']}.html"
+    made.parent.mkdir(parents=True)
+    made.write_text("<html></html>")
+    build_report(root, tmp_path / "report")
+    markdown = (tmp_path / "report" / "report.md").read_text()
+    assert "## Replays" in markdown
+    assert f"replays/{rows.iloc[1]['episode_id']}.html" in markdown
