@@ -148,9 +148,9 @@ class _Renderer:
         scenario = make_scenario(run.scenario, model, run.duration)
         scene = simulated_scene(scenario.scene, perturbation, run.seed, run.scale)
         self.sim = make_simulator("pybullet")
-        self.sim.reset(
-            self.robot, replace(scene, grasps=(), moving_boxes=()), model.standing_state()
-        )
+        # no grasps (a replay sets configurations, it does not simulate); moving boxes are
+        # put where they are at each frame's time
+        self.sim.reset(self.robot, replace(scene, grasps=()), model.standing_state())
         c = self.client = self.sim.client
         self.markers = {
             name: pb.createMultiBody(
@@ -181,6 +181,8 @@ class _Renderer:
             q,
         )
         self.sim.set_state(state)
+        if self.sim.scene.moving_boxes:
+            self.sim._move_boxes(float(row["time"]))
         com = np.array([row[f"com_true_{a}"] for a in "xyz"])
         zmp = [row.get("zmp_actual_x", np.nan), row.get("zmp_actual_y", np.nan)]
         hidden = [0.0, 0.0, -10.0]

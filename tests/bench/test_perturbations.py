@@ -4,6 +4,8 @@ replicas differ by a small seeded change; the sweep spec expands one dimension a
 
 from __future__ import annotations
 
+from pathlib import Path
+
 import numpy as np
 import pytest
 
@@ -29,6 +31,7 @@ from robots.perturbation import (
 from robots.robot_registry import make_robot
 
 G = 9.81
+SPECS = Path(__file__).parents[2] / "bench" / "specs"
 
 
 def test_torso_is_where_the_arms_branch():
@@ -262,7 +265,7 @@ def test_the_main_jobs_digest_and_ids_are_those_before_robustness():
     runs nothing twice."""
     from bench.sweep_spec import load_spec
 
-    spec = load_spec("bench/specs/main.toml")
+    spec = load_spec(SPECS / "main.toml")
     episodes = spec.episodes()
     assert spec.digest() == "ffa92370b0e9"
     assert (len(episodes), episodes[5].episode_id) == (1414, "c1877594b2453ab7")
@@ -392,3 +395,22 @@ def test_support_relative_pushes_point_where_their_names_say(step):
     push = late.pushes[0]
     centre = phase.start + 0.7 * (phase.end - phase.start)
     assert push.time + push.duration / 2 == pytest.approx(centre, abs=1e-12)
+
+
+def test_robustness_spec_file_varies_each_dimension_alone():
+    from bench.sweep_spec import load_spec
+
+    spec = load_spec(SPECS / "robustness.toml")
+    labels = [p.label() if p else "nominal" for p in spec.perturbations]
+    assert labels == [
+        "nominal",
+        "noise=1",
+        "noise=4",
+        "delay=1",
+        "delay=3",
+        "payload_kg=10",
+        "torque_scale=0.5",
+        "ground_height_m=0.02",
+        "slope_deg=4",
+    ]
+    assert len(spec.episodes()) == 3 * 2 * len(labels) * (1 + 10)
