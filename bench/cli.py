@@ -1159,7 +1159,7 @@ def _make_replays(results: list[str], out: str) -> None:
     """The replays the report offers (`reports.robustness.replay_choices`), into
     OUT/replays/: each episode runs again; one that cannot be replayed is reported on stderr
     and left out."""
-    from bench.replay import ReplayError, replay
+    from bench.replay import replay
     from reports.build import read_all_results
     from reports.robustness import REPLAY_FOLDER, replay_choices
 
@@ -1169,7 +1169,7 @@ def _make_replays(results: list[str], out: str) -> None:
         print(f"replay of {choice.controller} ({choice.what}) -> {target}", file=sys.stderr)
         try:
             replay(choice.results_dir or results[0], choice.episode_id, target)
-        except ReplayError as exc:
+        except Exception as exc:  # a replay that fails (ReplayError or else) leaves out itself
             print(f"centrobench: replay of {choice.episode_id} left out: {exc}", file=sys.stderr)
 
 

@@ -122,6 +122,14 @@ class PushProtocol:
             or not all(d in ("random", *SUPPORT_DIRECTIONS) for d in directions)
         ):
             raise ValueError(f"directions' must be {_FIELDS['directions']}, got {directions!r}")
+        for label, value, default in (
+            ("swing_fractions", fractions, [0.5]),
+            ("directions", directions, ["random"]),
+        ):
+            if value != default and "walking" not in phases:
+                raise ValueError(
+                    f"{label}' applies to walking pushes and phases has none (got {phases!r})"
+                )
         survival = _number("survival_time", data.get("survival_time", 3.0), strict=True)
         push_time = _number("standing_push_time", data.get("standing_push_time", 1.5))
         if push_time + PUSH_DURATION + survival > MAX_EPISODE_SECONDS:
@@ -143,6 +151,14 @@ class PushProtocol:
             swing_fractions=tuple(dict.fromkeys(float(f) for f in fractions)),
             directions=tuple(dict.fromkeys(directions)),
         )
+
+    def episodes_per_grid_point(self) -> int:
+        """How many episodes `push_episodes` makes for one grid point."""
+        standing = self.count if "standing" in self.phases else 0
+        named = len([d for d in self.directions if d != "random"])
+        random = self.count if "random" in self.directions else 0
+        walking = len(self.swing_fractions) * (random + named) if "walking" in self.phases else 0
+        return len(self.dv) * self.replicas * (standing + walking)
 
     def directions_deg(self) -> np.ndarray:
         """The `count` push directions [deg], uniform on [0, 360) from `seed`."""
@@ -248,7 +264,11 @@ def _pushes(
     random_directions: np.ndarray,
     directions: tuple[str, ...],
 ) -> Iterator[tuple[dict, Any]]:
-    """Every level x direction x replica of one phase (and swing fraction) from `base`."""
+    """Every level x direction x replica of one phase (and swing fraction) from `base`. A
+    replica's push may start up to `bench.runner.REPLICA_PUSH_JITTER_S` late: its episode
+    gets that much more time, so that every replica is judged over the whole survival time."""
+    from bench.runner import REPLICA_PUSH_JITTER_S
+
     for dv in protocol.dv:
         for name in directions:
             if name == "random":
@@ -261,7 +281,16 @@ def _pushes(
             for index, fields in pushes:
                 labels = {"push_phase": phase, "push_dv_mps": dv, "push_index": index}
                 for replica in range(protocol.replicas):
+                    longer = {}
+                    if replica > 0:  # its push may start up to the jitter late
+                        longer["duration"] = base.duration + REPLICA_PUSH_JITTER_S
                     yield (
                         labels,
-                        replace(base, push_impulse=round(mass * dv, 9), replica=replica, **fields),
+                        replace(
+                            base,
+                            push_impulse=round(mass * dv, 9),
+                            replica=replica,
+                            **fields,
+                            **longer,
+                        ),
                     )

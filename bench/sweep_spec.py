@@ -161,10 +161,10 @@ class SweepSpec:
             ):
                 if getattr(self.push, name) == default:
                     data["push"].pop(name)
-        if self.perturbations == (None,):  # as before robustness existed
-            data.pop("perturbations")
-        else:
-            data["perturbations"] = robustness_to_dict(self.perturbations)
+        perturbations = data.pop("perturbations")  # recorded as the spec field it came from
+        if self.perturbations != (None,):  # (left out when nominal: as before robustness)
+            data["robustness"] = robustness_to_dict(self.perturbations)
+        del perturbations
         if self.push is None:
             data.pop("push")
         if not self.speeds:  # as before speeds existed: earlier digests stay valid
@@ -431,9 +431,7 @@ def spec_from_mapping(data: dict[str, Any]) -> SweepSpec:
         )
     # the grid's size from its axes, before any episode is listed
     plain = sum(len(speeds) if speeds and s in WALKS_WITH_SPEED else 1 for s in scenarios)
-    per_point = plain + (
-        len(push.phases) * len(push.dv) * push.count * push.replicas if push else 0
-    )
+    per_point = plain + (push.episodes_per_grid_point() if push else 0)
     total = (
         len(controllers)
         * len(sims)

@@ -16,6 +16,7 @@ import numpy as np
 import pandas as pd
 
 from reports.statistics import (
+    ROBUST_REPLICAS,
     fraction_cell,
     paired_table,
     robust_threshold,
@@ -25,6 +26,33 @@ from reports.statistics import (
 
 KEYS = ["controller", "sim"]
 JUDGED = ("ok", "fell")
+EPISODE_KEYS = (
+    "scenario",
+    "speed",
+    "push_phase",
+    "push_dv_mps",
+    "push_index",
+    "push_direction_deg",
+    "push_swing_fraction",
+    "push_direction_name",
+    "seed",
+    "scale",
+    "friction",
+    "robot",
+)
+"""What makes two controllers' (or a perturbed and a nominal) episodes the same test: the
+scenario and its push (level, index and world direction, timing), seed, scale, friction and
+robot."""
+
+
+def episode_key(rows: pd.DataFrame, without: tuple[str, ...] = ()) -> pd.Series:
+    """One string per row from its `EPISODE_KEYS` (but `without`; missing columns and nulls
+    count as empty), to group or pair on (null-safe, unlike pandas' own keys)."""
+    names = [name for name in EPISODE_KEYS if name not in without and name in rows]
+    if not names:
+        return pd.Series("", index=rows.index)
+    parts = rows[names].astype(object).where(rows[names].notna(), "")
+    return parts.astype(str).agg("|".join, axis=1)
 
 
 def perturbation_labels(episodes: pd.DataFrame) -> pd.Series:
@@ -90,12 +118,16 @@ def degradation_table(episodes: pd.DataFrame) -> pd.DataFrame:
     perturbed[["dimension", "magnitude"]] = perturbed["label"].str.split("=", expand=True)
     perturbed["magnitude"] = perturbed["magnitude"].astype(float)
     baseline = rows[rows["label"] == "nominal"]
+    baseline = baseline.assign(
+        twin=baseline["controller"] + "|" + baseline["sim"] + "|" + episode_key(baseline)
+    )
     parts = [perturbed]
-    keys = [*KEYS, "protocol"]
     for dimension, tested in perturbed.groupby("dimension", sort=True):
-        # the nominal point of the curves that this dimension was tested on
-        which = tested[keys].drop_duplicates()
-        points = baseline.merge(which, on=keys)
+        # the nominal point: the nominal twins of the episodes perturbed (same controller,
+        # simulator, scenario and push, seed, scale, friction, robot), not every nominal
+        # episode (a report over several sweeps has others)
+        twins = set(tested["controller"] + "|" + tested["sim"] + "|" + episode_key(tested))
+        points = baseline[baseline["twin"].isin(twins)].drop(columns="twin")
         parts.append(points.assign(dimension=dimension, magnitude=NOMINAL_MAGNITUDE[dimension]))
     table = pd.concat(parts, ignore_index=True)
     grouped = table.groupby([*KEYS, "protocol", "dimension", "magnitude"], sort=True)
@@ -178,46 +210,51 @@ def half_survival_table(degradation: pd.DataFrame) -> pd.DataFrame:
 
 
 def robust_threshold_table(episodes: pd.DataFrame) -> pd.DataFrame:
-    """Per controller x simulator x phase x push (a random direction by its index, or a
-    support-relative direction at a swing fraction), with replicas: the robust threshold
-    (`reports.statistics.robust_threshold`: the largest dv [m/s] survived in 4 of 5 replicas
-    at it and every level below), summarised per controller x simulator x phase x direction
-    kind as median, min and max over the pushes. Empty without 5 judged replicas per push."""
-    rows = episodes[
-        (perturbation_labels(episodes) == "nominal")
-        & episodes["push_phase"].notna()
-        & episodes["status"].isin(JUDGED)
-    ]
-    if "replica" not in rows or rows["replica"].fillna(0).max() < 1:
+    """Per controller x simulator x phase x push (a world direction, and for walking pushes a
+    swing fraction, with its seed, scale, friction and robot) that has replicas: the robust
+    threshold (`reports.statistics.robust_threshold`: the largest dv [m/s] survived in 4 of 5
+    replicas at it and at every level below) over the levels at which the push was
+    replicated, summarised per controller x simulator x phase x direction kind x swing
+    fraction as median, min and max over the pushes. A push without 5 judged replicas at
+    every one of its replicated levels (an error or a timeout among them) is counted as
+    incomplete, not given a threshold. Empty without replicas."""
+    if "replica" not in episodes or episodes["replica"].fillna(0).max() < 1:
         return pd.DataFrame()
+    rows = episodes[(perturbation_labels(episodes) == "nominal") & episodes["push_phase"].notna()]
     rows = rows.assign(
-        direction=(
-            rows["push_direction_name"].fillna("random")
-            if "push_direction_name" in rows
-            else "random"
-        ),
+        direction=rows["push_direction_name"].fillna("random")
+        if "push_direction_name" in rows
+        else "random",
         fraction=rows["push_swing_fraction"].fillna(0.5) if "push_swing_fraction" in rows else 0.5,
-        push=rows["push_index"].fillna(-1),
+        push=episode_key(rows, without=("push_dv_mps",)),
+        replica=rows["replica"].fillna(0).astype(int),
+        judged=rows["status"].isin(JUDGED),
         alive=rows["survived"].fillna(False).astype(bool),
     )
     result = []
     keys = [*KEYS, "push_phase", "direction", "fraction"]
     for key, group in rows.groupby(keys, sort=True):
         thresholds, incomplete = [], 0
-        for _, push in group.groupby("push"):
-            levels = {dv: list(g["alive"]) for dv, g in push.groupby("push_dv_mps")}
-            if any(len(v) != 5 for v in levels.values()):
+        for _, push in group.groupby("push", sort=True):
+            replicated = sorted(set(push.loc[push["replica"] > 0, "push_dv_mps"]))
+            if not replicated:
+                continue  # a push of a protocol without replicas
+            levels = {
+                dv: list(push.loc[(push["push_dv_mps"] == dv) & push["judged"], "alive"])
+                for dv in replicated
+            }
+            if any(len(outcomes) != ROBUST_REPLICAS for outcomes in levels.values()):
                 incomplete += 1
                 continue
             value = robust_threshold(levels)
             thresholds.append(0.0 if value is None else value)
-        if not thresholds:
+        if not thresholds and not incomplete:
             continue
-        values = np.array(thresholds)
+        values = np.array(thresholds) if thresholds else np.array([np.nan])
         result.append(
             {
                 **dict(zip(keys, key, strict=True)),
-                "pushes": len(values),
+                "pushes": len(thresholds),
                 "median dv m/s": float(np.median(values)),
                 "min dv m/s": float(values.min()),
                 "max dv m/s": float(values.max()),
@@ -228,22 +265,19 @@ def robust_threshold_table(episodes: pd.DataFrame) -> pd.DataFrame:
 
 
 def paired_comparisons(episodes: pd.DataFrame, phase: str) -> pd.DataFrame:
-    """Every pair of controllers per simulator on the protocol pushes of `phase` both were
-    judged on (same level, direction and replica): the pushes one survived and the other did
-    not, and the exact McNemar p-value (`reports.statistics.paired_table`), most significant
-    first."""
+    """Every pair of controllers per simulator on the protocol pushes of `phase` (nominal,
+    replica 0) both were judged on, a push being the same test (`EPISODE_KEYS`: level, world
+    direction, timing, seed, scale, friction, robot): the pushes one survived and the other
+    did not, and the exact McNemar p-value (`reports.statistics.paired_table`), most
+    significant first."""
     rows = protocol_pushes(episodes, phase)
     rows = rows[rows["status"].isin(JUDGED)]
     if rows["controller"].nunique() < 2:
         return pd.DataFrame()
     outcomes = rows.assign(
-        survived=rows["survived"].fillna(False).astype(bool),
-        push=rows["push_index"].fillna(-1),
+        survived=rows["survived"].fillna(False).astype(bool), push=episode_key(rows)
     )
-    keys = ["push_dv_mps", "push"]
-    if "robot" in outcomes and outcomes["robot"].nunique() > 1:
-        keys.append("robot")
-    table = paired_table(outcomes, pair_keys=keys, by=("sim",))
+    table = paired_table(outcomes, pair_keys=["push"], by=("sim",))
     return table.sort_values(["p", "sim"], kind="stable").reset_index(drop=True)
 
 

@@ -13,7 +13,7 @@ nominal episode). What it changes, and where:
   has its centre of mass moved forward, or has every link's mass off by up to a relative
   amount, while the controller keeps the nominal model;
 - actuation: every joint's torque limit (`simulated_robot`) and the servo gains of every
-  applied command (`sims.sensor_model.apply_gain_scale`) scaled;
+  applied command (`sims.sensor_model.CommandDelay`) scaled;
 - ground (`ground_boxes`): a seeded field of thin boxes of bounded height, or a ramp.
 """
 
@@ -161,16 +161,18 @@ def simulated_robot(
     k = index[torso]
     inertial = links[k].inertial
     if perturbation.com_offset_m != 0.0:
-        # move the torso's centre of mass by d M / m_torso: the whole robot's moves by d
+        # move the torso's centre of mass by d M / m_torso along the world's x in the standing
+        # posture (JVRC-1's chest frame is pitched there): the whole robot's moves by d
         total = sum(link.inertial.mass for link in links)
         shift = perturbation.com_offset_m * total / inertial.mass
-        com = np.add(inertial.com_in_link, (shift, 0.0, 0.0))
+        forward_in_torso = _world_x_in_link(robot, torso)
+        com = np.add(inertial.com_in_link, shift * forward_in_torso)
         inertial = replace(inertial, com_in_link=tuple(float(x) for x in com))
     if perturbation.payload_kg != 0.0:
         inertial = combined_inertial(
             [
                 (inertial, (0.0, 0.0, 0.0)),
-                payload_inertial(perturbation.payload_kg, inertial.com_in_link),
+                payload_inertial(perturbation.payload_kg, inertial.com_in_link, robot.scale),
             ]
         )
     links[k] = replace(links[k], inertial=inertial)
@@ -182,17 +184,29 @@ def simulated_robot(
     return replace(robot, links=tuple(links), joints=joints)
 
 
-def payload_inertial(mass: float, torso_com_in_link) -> tuple[Inertial, tuple[float, float, float]]:
+def _world_x_in_link(robot: RobotDescription, link: str) -> np.ndarray:
+    """The world's x axis in `link`'s frame in the robot's standing state."""
+    from robots.model import RobotModel
+
+    model = RobotModel(robot)
+    _, rotation = model.frame_pose(model.standing_state(), link)
+    return np.asarray(rotation).T @ np.array([1.0, 0.0, 0.0])
+
+
+def payload_inertial(
+    mass: float, torso_com_in_link, scale: float = 1.0
+) -> tuple[Inertial, tuple[float, float, float]]:
     """The payload (a solid cube, `PAYLOAD_HALF_EXTENT_M`) as (its inertial about its own
     centre, its centre in the torso frame: `PAYLOAD_OFFSET_FROM_TORSO_COM` from the torso's
-    centre of mass)."""
+    centre of mass); both lengths times the robot's `scale`."""
     if mass <= 0.0:
         raise ValueError(f"payload_kg must be positive, got {mass:g}")
-    side = 2.0 * PAYLOAD_HALF_EXTENT_M
+    side = 2.0 * PAYLOAD_HALF_EXTENT_M * scale
     moment = mass * side**2 / 6.0  # a solid cube about its centre
     diagonal = ((moment, 0.0, 0.0), (0.0, moment, 0.0), (0.0, 0.0, moment))
     centre = tuple(
-        float(c + o) for c, o in zip(torso_com_in_link, PAYLOAD_OFFSET_FROM_TORSO_COM, strict=True)
+        float(c + scale * o)
+        for c, o in zip(torso_com_in_link, PAYLOAD_OFFSET_FROM_TORSO_COM, strict=True)
     )
     return Inertial(mass, (0.0, 0.0, 0.0), diagonal), centre
 

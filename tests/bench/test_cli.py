@@ -380,6 +380,7 @@ def test_robustness_flags_make_the_specs_table(monkeypatch, tmp_path):
     monkeypatch.chdir(tmp_path)
     argv = [*SWEEP, "--noise", "1,imu=4", "--delay", "2", "--payload-kg", "5"]
     argv += ["--push-dv", "0.2", "--push-count", "2", "--push-replicas", "5"]
+    argv += ["--push-phases", "walking"]
     argv += ["--push-swing-fractions", "0.2,0.7", "--push-directions", "random,inward"]
     with pytest.raises(Ran):
         main(argv)
@@ -389,5 +390,6 @@ def test_robustness_flags_make_the_specs_table(monkeypatch, tmp_path):
     assert spec.push.replicas == 5
     assert spec.push.swing_fractions == (0.2, 0.7)
     assert spec.push.directions == ("random", "inward")
-    # 5 perturbations x (1 stand + 2 pushes x 5 replicas)
-    assert len(spec.episodes()) == 5 * (1 + 2 * 5)
+    # 5 perturbations x (1 stand + 2 fractions x (2 random + 1 inward) pushes x 5 replicas)
+    assert len(spec.episodes()) == 5 * (1 + 2 * 3 * 5)
+    assert spec.push.episodes_per_grid_point() == 2 * 3 * 5

@@ -57,11 +57,12 @@ def test_payload_moves_the_centre_of_mass_by_the_lever_rule():
     np.testing.assert_allclose(truth.com_position_world(state) - com, expected, rtol=0, atol=1e-12)
 
 
-def test_com_offset_moves_the_simulated_robots_centre_of_mass_forward():
-    robot = humanoid()
+@pytest.mark.parametrize("name", ["centrobench_humanoid", "jvrc1"])
+def test_com_offset_moves_the_simulated_robots_centre_of_mass_forward(name):
+    robot = make_robot(name)  # JVRC-1's torso (its chest) is pitched when it stands
     moved = simulated_robot(robot, Perturbation(com_offset_m=0.02), seed=0)
     assert moved.total_mass == pytest.approx(robot.total_mass, abs=1e-12)
-    state = RobotModel(robot).standing_state()  # torso upright: its x is the world's
+    state = RobotModel(robot).standing_state()
     shift = RobotModel(moved).com_position_world(state) - RobotModel(robot).com_position_world(
         state
     )
@@ -221,8 +222,13 @@ def test_robustness_table_varies_one_dimension_at_a_time():
     assert labels == ["nominal", "noise=1", "noise=2", "delay=1", "payload_kg=5"]
     assert len({e.episode_id for e in spec.episodes()}) == 5
     # read back from the spec's record: the same perturbations
-    record = spec.to_dict()["perturbations"]
+    record = spec.to_dict()["robustness"]
     assert parse_robustness(record) == spec.perturbations
+    # the whole record is a spec again (a replay reads it): the same episodes
+    import json
+
+    again = spec_from_mapping(json.loads(json.dumps(spec.to_dict())))
+    assert [e.episode_id for e in again.episodes()] == [e.episode_id for e in spec.episodes()]
     assert dimension_of(perturbation_for("delay", 2)) == ("delay", 2.0)
     assert dimension_of(Perturbation(noise_imu=1.0, payload_kg=1.0)) is None
 

@@ -285,9 +285,11 @@ def test_episode_ids_of_the_default_whole_body_layer_are_those_of_earlier_releas
     import json
     from dataclasses import asdict
 
+    LATER = ("whole_body", "speed", "steps", "robot", "replica", "perturbation")
+
     def earlier_id(episode) -> str:
         fields = asdict(episode.run)
-        for later in ("whole_body", "speed", "steps", "robot", "replica", "perturbation"):
+        for later in (*LATER, "push_swing_fraction", "push_direction_name"):
             del fields[later]  # not then
         labels = {
             k: getattr(episode, k)

@@ -116,10 +116,10 @@ def test_degradation_has_intervals_and_the_nominal_point(episodes):
     noise = table[(table["controller"] == "a+x") & (table["dimension"] == "noise")]
     noise = noise[noise["protocol"] == "standing push"].sort_values("magnitude")
     assert list(noise["magnitude"]) == [0.0, 1.0, 2.0]
-    # nominal: the 10 pushes of the curve plus the replica-0 protocol pushes at 0.2 / 0.3 /
-    # 0.4 m/s (2 per level: push 0 survived at every level's replica 0, push 1 too)
-    assert list(noise["episodes"]) == [10 + 2 * 3, 10, 10]
-    assert list(noise["survived"]) == [16, 6, 2]
+    # nominal: the perturbed pushes' nominal twins only (the same 10 pushes unperturbed),
+    # not the other nominal pushes of the sweep
+    assert list(noise["episodes"]) == [10, 10, 10]
+    assert list(noise["survived"]) == [10, 6, 2]
     assert noise.iloc[1]["survival"] == fraction_cell(6, 10)
     assert noise.iloc[2]["com_rms_mm"] == pytest.approx(12.0)
 
@@ -226,3 +226,30 @@ def test_replays_offered_are_one_walk_and_the_first_fall_per_controller(tmp_path
     markdown = (tmp_path / "report" / "report.md").read_text()
     assert "## Replays" in markdown
     assert f"replays/{rows.iloc[1]['episode_id']}.html" in markdown
+
+
+def test_a_level_whose_replicas_all_failed_to_run_leaves_the_push_without_a_threshold():
+    rows = []
+    for level in (0.3, 0.35, 0.4):
+        for replica in range(5):
+            row = _push("a+x", "mujoco", level, 0, True, replica=replica)
+            if level == 0.35:
+                row.update(status="error", survived=None)
+            rows.append(row)
+    table = robustness.robust_threshold_table(pd.DataFrame(rows))
+    assert table.iloc[0]["pushes"] == 0
+    assert table.iloc[0]["incomplete"] == 1
+
+
+def test_pushes_are_paired_by_seed_too():
+    rows = []
+    for seed, winner in ((0, "a+x"), (1, "b+y")):
+        for index in range(3):
+            for controller in ("a+x", "b+y"):
+                rows.append(
+                    _push(controller, "mujoco", 0.3, index, controller == winner, seed=seed)
+                )
+    table = robustness.paired_comparisons(pd.DataFrame(rows), "standing")
+    row = table.iloc[0]
+    assert (row["pushes"], row["only A"], row["only B"]) == (6, 3, 3)
+    assert row["p"] == pytest.approx(1.0)
