@@ -20,7 +20,9 @@ ZMP, contact forces) as JSON in a `<script type="application/json" id="episode-t
 
 Chosen over meshcat (a 3-D viewer in the browser, interactive): its Python package imports a
 ZeroMQ server, IPython, tornado and pyngrok, six dependencies more; PyBullet's renderer and
-matplotlib are dependencies already. Measured: MEASURED.
+matplotlib are dependencies already. Measured (a 12 s walk, 5682 periods, run in 4.1 s): a
+frame renders in 47 ms; at 10 frames per simulated second the replay's 115 frames take 21 s
+to draw and compose and the page is 12 MB (README, "Robustness dimensions").
 """
 
 from __future__ import annotations
