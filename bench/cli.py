@@ -1164,7 +1164,11 @@ def _make_replays(results: list[str], out: str) -> None:
     from reports.robustness import REPLAY_FOLDER, replay_choices
 
     episodes, _, _ = read_all_results([Path(r) for r in results])
+    made = set()
     for choice in replay_choices(episodes).itertuples():
+        if choice.episode_id in made:  # a walk that is also the first fall: drawn once
+            continue
+        made.add(choice.episode_id)
         target = Path(out) / REPLAY_FOLDER / f"{choice.episode_id}.html"
         print(f"replay of {choice.controller} ({choice.what}) -> {target}", file=sys.stderr)
         try:

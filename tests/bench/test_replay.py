@@ -24,7 +24,7 @@ def sweep(tmp_path_factory) -> tuple[Path, str]:
         {
             "controllers": ["hold+posture"],
             "sims": ["mujoco"],
-            "scenarios": ["stand"],
+            "scenarios": ["stand", "walk"],
             "duration": DURATION,
         }
     )
@@ -77,3 +77,13 @@ def test_replay_command_refuses_unknown_episodes_and_files_in_one_line(sweep, ca
     assert "give a .html or .gif file" in capsys.readouterr().err
     assert main(["replay", str(tmp_path), episode, "--out", str(tmp_path / "x.html")]) == 2
     assert "has no sweep.json" in capsys.readouterr().err
+
+
+def test_report_with_replays_draws_the_walk_once_and_lists_it(sweep, tmp_path, capsys):
+    root, _ = sweep
+    out = tmp_path / "report"
+    assert main(["report", str(root), "--out", str(out), "--replays"]) == 0
+    made = sorted((out / "replays").glob("*.html"))
+    assert len(made) == 1  # the walk (no episode fell)
+    markdown = (out / "report.md").read_text()
+    assert f"replays/{made[0].name}" in markdown
