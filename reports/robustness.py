@@ -334,33 +334,39 @@ REPLAY_FOLDER = "replays"  # in the report's folder: <episode_id>.html (`centrob
 
 def replay_choices(episodes: pd.DataFrame) -> pd.DataFrame:
     """The episodes the report offers replays of: per controller, one nominal walk (MuJoCo's
-    when there is one) and its first fall (the nominal episode that fell at the lowest push
-    level, then the lowest push index, MuJoCo first; a plain scenario's fall counts before
-    any push). Columns: controller, what, sim, episode_id, and the result directory when the
-    report reads several."""
-    rows = nominal(episodes)
+    when there is one) and its first fall (the episode that fell at the lowest push level,
+    then the lowest push index, MuJoCo first, a plain scenario's fall before any push; a
+    nominal one if any fell, else a perturbed one, named with its perturbation). Columns:
+    controller, what, sim, episode_id, and the result directory when the report reads
+    several."""
+    everything = episodes.assign(label=perturbation_labels(episodes))
+    if "replica" in everything:
+        everything = everything[everything["replica"].fillna(0) == 0]
     result = []
-    for controller, group in rows.groupby("controller", sort=True):
-        walks = group[(group["scenario"] == "walk") & group["push_phase"].isna()]
+    for controller, group in everything.groupby("controller", sort=True):
+        walks = group[
+            (group["scenario"] == "walk")
+            & group["push_phase"].isna()
+            & (group["label"] == "nominal")
+        ]
         walks = walks.sort_values(["sim", "episode_id"])
         if len(walks):
             result.append({"controller": controller, "what": "walk", **_choice(walks.iloc[0])})
         falls = group[group["status"] == "fell"]
         falls = falls.assign(
-            level=falls["push_dv_mps"].fillna(-1.0), index=falls["push_index"].fillna(-1)
+            perturbed=falls["label"] != "nominal",
+            level=falls["push_dv_mps"].fillna(-1.0),
+            index=falls["push_index"].fillna(-1),
         )
-        falls = falls.sort_values(["level", "index", "sim", "episode_id"])
+        falls = falls.sort_values(["perturbed", "level", "index", "label", "sim", "episode_id"])
         if len(falls):
             first = falls.iloc[0]
-            what = (
-                f"first fall ({first['scenario']}"
-                + (
-                    f", dv {first['push_dv_mps']:g} m/s"
-                    if first["push_dv_mps"] == first["push_dv_mps"]
-                    else ""
-                )
-                + ")"
-            )
+            what = f"first fall ({first['scenario']}"
+            if first["push_dv_mps"] == first["push_dv_mps"]:  # not nan: a push
+                what += f", dv {first['push_dv_mps']:g} m/s"
+            if first["label"] != "nominal":
+                what += f", {first['label']}"
+            what += ")"
             result.append({"controller": controller, "what": what, **_choice(first)})
     return pd.DataFrame(result, columns=["controller", "what", "sim", "episode_id", "results_dir"])
 

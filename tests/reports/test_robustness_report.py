@@ -205,6 +205,8 @@ def test_replays_offered_are_one_walk_and_the_first_fall_per_controller(tmp_path
         _push("a+x", "mujoco", 0.3, 9, False),
         _push("a+x", "mujoco", 0.2, 1, False, perturbation="noise=2"),  # not nominal
         _push("b+y", "mujoco", 0.2, 0, True),
+        _push("c+z", "mujoco", 0.2, 0, True),
+        _push("c+z", "mujoco", 0.2, 0, False, perturbation="delay=3"),
     ]
     rows = pd.DataFrame(records)
     choices = robustness.replay_choices(rows)
@@ -212,7 +214,9 @@ def test_replays_offered_are_one_walk_and_the_first_fall_per_controller(tmp_path
     assert a.loc["walk", "sim"] == "mujoco"
     first = a.loc["first fall (stand_push, dv 0.3 m/s)"]
     assert (first["sim"], first["episode_id"]) == ("pybullet", rows.iloc[3]["episode_id"])
-    assert list(choices["controller"]) == ["a+x", "a+x"]  # b+y: no walk, no fall
+    # b+y: no walk, no fall; c+z: only a perturbed fall, named with its perturbation
+    assert list(choices["controller"]) == ["a+x", "a+x", "c+z"]
+    assert choices.iloc[2]["what"] == "first fall (stand_push, dv 0.2 m/s, delay=3)"
     # the report lists them, with the file where one was made
     root = tmp_path / "results"
     store = ResultStore(root)
