@@ -66,10 +66,6 @@ class Perturbation:
     slope_deg: float = 0.0
 
     @property
-    def nominal(self) -> bool:
-        return self == NOMINAL
-
-    @property
     def changes_robot(self) -> bool:
         """Whether the simulated robot differs from the controller's model."""
         return (

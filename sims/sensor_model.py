@@ -132,8 +132,6 @@ class SensorModel:
             bias_rng = np.random.default_rng([seed, BIAS_STREAM])
             self.bias = perturbation.noise_bias * unit * bias_rng.standard_normal(unit.size)
         self.readings: deque[Sensors] = deque(maxlen=self.delay + 1)
-        self.last_offset: np.ndarray | None = None
-        """The offset (noise plus bias) given to the last reading, in the draw order."""
 
     def observe(self, sensors: Sensors) -> Sensors:
         """The reading the estimator gets now, for the simulator's `sensors` of this period."""
@@ -151,7 +149,6 @@ class SensorModel:
             offset += self.sigma * self.rng.standard_normal(offset.size)
         if self.bias is not None:
             offset += self.bias
-        self.last_offset = offset
         n, imu = self.n, 2 * self.n
         return replace(
             sensors,
