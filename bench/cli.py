@@ -39,6 +39,7 @@ from bench.limits import (
 from bench.push_protocol import MAX_REPLICAS
 from bench.robustness import DIMENSIONS, EXAMPLES
 from estimators import DEFAULT_ESTIMATOR
+from robots.perturbation import NOISE_CHANNELS
 from sims.base import SIMULATORS, MissingDependencyError
 
 T = TypeVar("T")
@@ -168,7 +169,9 @@ def _robustness_values(
     return _listed(kind, item, "magnitudes")
 
 
-NOISE_GROUPS = ("encoders", "imu", "ft")
+NOISE_GROUPS = ("encoders", "imu", "ft", *NOISE_CHANNELS)
+"""What `--noise` entries GROUP=X name: a sensor group (X a multiple of its data sheet's
+figures) or one channel (X its standard deviation in SI units, `robots.perturbation`)."""
 
 
 def _seed(kind: str) -> Callable[[str], int]:
@@ -570,10 +573,13 @@ def build_parser() -> argparse.ArgumentParser:
         "magnitudes, varied one dimension at a time around the nominal episode"
     )
     for dimension, (_fields, integer, *_rest, accepts) in DIMENSIONS.items():
-        flag = "--" + dimension.replace("_", "-")
+        flag = "--" + dimension.replace("_", "-").lower()
         example = EXAMPLES[dimension] + (",imu=4" if dimension == "noise" else "")
         extra = (
-            "; an entry GROUP=X sets one group (encoders, imu, ft)" if dimension == "noise" else ""
+            "; an entry GROUP=X sets one group (encoders, imu, ft: multiples) or one channel "
+            "(X in SI units, e.g. gyro_rad_s=0.01; channels: " + ", ".join(NOISE_CHANNELS) + ")"
+            if dimension == "noise"
+            else ""
         )
         robustness.add_argument(
             flag,

@@ -7,6 +7,7 @@ degradation curve varies one thing at a time)::
     nominal = true            # also the unperturbed episodes (default)
     noise = [0.5, 1, 2]       # every sensor's white noise, multiples of the data sheet's
     noise_encoders = [1]      # ... or one group: encoders, imu, ft
+    noise_gyro_rad_s = [0.01] # ... or one channel's standard deviation in SI units [rad/s]
     noise_bias = [1]          # a constant bias per episode, multiples of the same figures
     delay = [1, 2]            # control periods: the command late and the readings old
     command_delay = [1]       # ... or one of them
@@ -28,7 +29,8 @@ from collections.abc import Mapping
 from dataclasses import replace
 from typing import Any
 
-from robots.perturbation import NOMINAL, Perturbation
+from robots.perturbation import NOISE_CHANNELS, NOMINAL, Perturbation
+from sims.sensor_model import DATASHEET
 
 MAX_NOISE_MULTIPLE = 1_000.0
 MAX_DELAY_PERIODS = 100
@@ -38,6 +40,26 @@ MAX_MASS_ERROR = 0.9  # a link can lose 90 % of its mass at most (never none)
 MAX_ACTUATION_SCALE = 10.0
 MAX_GROUND_HEIGHT_M = 0.2
 MAX_SLOPE_DEG = 30.0
+
+_UNITS = {channel: channel.rsplit("_", 1)[1] for channel in NOISE_CHANNELS}
+_UNITS.update(
+    encoder_velocity_rad_s="rad/s",
+    gyro_rad_s="rad/s",
+    accelerometer_m_s2="m/s^2",
+    moment_xy_Nm="N m",
+    moment_z_Nm="N m",
+)
+_WHAT = {
+    "encoder_position_rad": "joint positions",
+    "encoder_velocity_rad_s": "joint velocities",
+    "imu_tilt_rad": "IMU's roll and pitch",
+    "imu_heading_rad": "IMU's heading",
+    "gyro_rad_s": "gyro",
+    "accelerometer_m_s2": "accelerometer",
+    "force_N": "F/T forces",
+    "moment_xy_Nm": "F/T moments about x and y",
+    "moment_z_Nm": "F/T moments about z",
+}
 
 # dimension -> (the Perturbation fields it sets, integer values, minimum, maximum, strict
 # minimum, what it accepts)
@@ -74,6 +96,18 @@ DIMENSIONS: dict[str, tuple[tuple[str, ...], bool, float, float, bool, str]] = {
         False,
         "multiples of the data sheet's force/torque noise",
     ),
+    **{
+        f"noise_{channel}": (
+            (f"noise_{channel}",),
+            False,
+            0.0,
+            MAX_NOISE_MULTIPLE * getattr(DATASHEET, channel),
+            False,
+            f"{_UNITS[channel]}, one standard deviation of white noise on the {_WHAT[channel]} "
+            f"only (data sheet: {getattr(DATASHEET, channel):.3g} at 2 ms)",
+        )
+        for channel in NOISE_CHANNELS
+    },
     "noise_bias": (
         ("noise_bias",),
         False,
@@ -156,6 +190,10 @@ EXAMPLES = {
     "noise_encoders": "1,4",
     "noise_imu": "1,4",
     "noise_ft": "1,4",
+    **{
+        f"noise_{channel}": ",".join(f"{m * getattr(DATASHEET, channel):.2g}" for m in (1, 4))
+        for channel in NOISE_CHANNELS
+    },
     "noise_bias": "1,10",
     "delay": "1,2",
     "command_delay": "1,2",

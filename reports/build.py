@@ -320,8 +320,9 @@ def _robustness_sections(episodes: pd.DataFrame) -> list[tuple[str, str, pd.Data
         result.append(
             (
                 "Degradation along the robustness dimensions",
-                "One dimension at a time (sensor noise in multiples of the data sheets', "
-                "delays in control periods, model errors, actuation, ground): survival with "
+                "One dimension at a time (sensor noise in multiples of the data sheets' or, "
+                "noise_<channel>, one channel's standard deviation in SI units; delays in "
+                "control periods; model errors, actuation, ground): survival with "
                 "the 95 % Wilson interval and the median CoM tracking error [mm], per protocol "
                 "(the pushes, or the plain scenario: survived = no fall); the nominal episodes "
                 "are each dimension's nominal magnitude.",

@@ -113,7 +113,7 @@ def degradation_table(episodes: pd.DataFrame) -> pd.DataFrame:
     rows["label"] = perturbation_labels(rows)
     rows["protocol"] = protocol_of(rows)
     rows["alive"] = _survived(rows)
-    single = rows["label"].str.fullmatch(r"[a-z_]+=[-0-9.e+]+")
+    single = rows["label"].str.fullmatch(r"[A-Za-z0-9_]+=[-0-9.e+]+")
     perturbed = rows[single].copy()
     perturbed[["dimension", "magnitude"]] = perturbed["label"].str.split("=", expand=True)
     perturbed["magnitude"] = perturbed["magnitude"].astype(float)
@@ -128,7 +128,7 @@ def degradation_table(episodes: pd.DataFrame) -> pd.DataFrame:
         # episode (a report over several sweeps has others)
         twins = set(tested["controller"] + "|" + tested["sim"] + "|" + episode_key(tested))
         points = baseline[baseline["twin"].isin(twins)].drop(columns="twin")
-        parts.append(points.assign(dimension=dimension, magnitude=NOMINAL_MAGNITUDE[dimension]))
+        parts.append(points.assign(dimension=dimension, magnitude=nominal_magnitude(dimension)))
     table = pd.concat(parts, ignore_index=True)
     grouped = table.groupby([*KEYS, "protocol", "dimension", "magnitude"], sort=True)
     result = grouped.agg(
@@ -167,7 +167,14 @@ NOMINAL_MAGNITUDE = {
     "ground_height_m": 0.0,
     "slope_deg": 0.0,
 }
-"""Each dimension's nominal magnitude (`robots.perturbation.Perturbation`'s defaults)."""
+"""Each dimension's nominal magnitude (`robots.perturbation.Perturbation`'s defaults) where
+it is not 0."""
+
+
+def nominal_magnitude(dimension: str) -> float:
+    """The magnitude of `dimension` that leaves an episode nominal: 1 for the scale factors,
+    0 for every other (the noise channels in SI units too)."""
+    return NOMINAL_MAGNITUDE.get(dimension, 0.0)
 
 
 def half_survival_table(degradation: pd.DataFrame) -> pd.DataFrame:
@@ -179,7 +186,7 @@ def half_survival_table(degradation: pd.DataFrame) -> pd.DataFrame:
         return pd.DataFrame(columns=[*KEYS, "protocol", "dimension", "nominal", "half at"])
     groups = degradation.groupby([*KEYS, "protocol", "dimension"], sort=True)
     for (controller, sim, protocol, dimension), group in groups:
-        base = NOMINAL_MAGNITUDE[dimension]
+        base = nominal_magnitude(dimension)
         start = group[group["magnitude"] == base]
         if start.empty:
             continue

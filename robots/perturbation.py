@@ -5,8 +5,9 @@ A `Perturbation` is plain data with every field at a default that changes nothin
 nominal episode). What it changes, and where:
 
 - sensors (`sims.sensor_model`): Gaussian white noise on the joint encoders, the IMU and the
-  force/torque sensors, in multiples of a real sensor's data-sheet figures
-  (`sims.sensor_model.DATASHEET`), and a constant bias per episode;
+  force/torque sensors, per sensor group in multiples of a real sensor's data-sheet figures
+  (`sims.sensor_model.DATASHEET`) or per channel as a standard deviation in SI units, and a
+  constant bias per episode;
 - delays (`sims.sensor_model`): the joint command applied `command_delay` control periods
   late; the estimator reads sensors `sensor_delay` periods old;
 - model error (`simulated_robot` here): the simulated robot carries a payload on its torso,
@@ -37,23 +38,61 @@ MASS_ERROR_STREAM = 7_001
 """The random stream of the link mass errors (`numpy.random.default_rng([seed, this])`)."""
 
 
+NOISE_CHANNELS = (
+    "encoder_position_rad",
+    "encoder_velocity_rad_s",
+    "imu_tilt_rad",
+    "imu_heading_rad",
+    "gyro_rad_s",
+    "accelerometer_m_s2",
+    "force_N",
+    "moment_xy_Nm",
+    "moment_z_Nm",
+)
+"""The sensor channels whose noise can be given in SI units (`Perturbation.noise_<channel>`),
+the fields of `sims.sensor_model.NoiseFigures`, with the groups they belong to below."""
+NOISE_GROUP_OF_CHANNEL = {
+    "encoder_position_rad": "encoders",
+    "encoder_velocity_rad_s": "encoders",
+    "imu_tilt_rad": "imu",
+    "imu_heading_rad": "imu",
+    "gyro_rad_s": "imu",
+    "accelerometer_m_s2": "imu",
+    "force_N": "ft",
+    "moment_xy_Nm": "ft",
+    "moment_z_Nm": "ft",
+}
+
+
 @dataclass(frozen=True)
 class Perturbation:
     """An episode's perturbations; every default leaves the episode nominal.
 
     noise_encoders, noise_imu, noise_ft: white-noise standard deviations in multiples of the
-    data sheet's (`sims.sensor_model.DATASHEET`); noise_bias: a constant bias per episode per
-    channel, in multiples of the same figures; command_delay, sensor_delay: control periods;
-    payload_kg [kg] on the torso, unknown to the controller; com_offset_m [m]: the simulated
-    robot's centre of mass moved forward (torso x) by this much; mass_error: every link's
-    mass (and inertia) scaled by 1 + mass_error u, u uniform in [-1, 1] per link, seeded;
-    torque_scale, gain_scale: factors on the torque limits and on the servo gains;
-    ground_height_m [m]: the largest height of the uneven ground's boxes; slope_deg [deg]:
-    the ground's inclination (rising along +x)."""
+    data sheet's (`sims.sensor_model.DATASHEET`); noise_<channel> (`NOISE_CHANNELS`, one per
+    field of `sims.sensor_model.NoiseFigures`, in the SI unit its name ends with): one
+    channel's standard deviation, which when positive replaces its group's multiple of the
+    data sheet; noise_bias: a constant bias per episode per channel, in multiples of the
+    channel's figure (its SI value if given, else the data sheet's); command_delay,
+    sensor_delay: control periods; payload_kg [kg] on the torso, unknown to the controller;
+    com_offset_m [m]: the simulated robot's centre of mass moved forward (torso x) by this
+    much; mass_error: every link's mass (and inertia) scaled by 1 + mass_error u, u uniform
+    in [-1, 1] per link, seeded; torque_scale, gain_scale: factors on the torque limits and
+    on the servo gains; ground_height_m [m]: the largest height of the uneven ground's boxes;
+    slope_deg [deg]: the ground's inclination (rising along +x)."""
 
     noise_encoders: float = 0.0
     noise_imu: float = 0.0
     noise_ft: float = 0.0
+    noise_encoder_position_rad: float = 0.0
+    noise_encoder_velocity_rad_s: float = 0.0
+    noise_imu_tilt_rad: float = 0.0
+    noise_imu_heading_rad: float = 0.0
+    noise_gyro_rad_s: float = 0.0
+    noise_accelerometer_m_s2: float = 0.0
+    noise_force_N: float = 0.0
+    noise_moment_xy_Nm: float = 0.0
+    noise_moment_z_Nm: float = 0.0
     noise_bias: float = 0.0
     command_delay: int = 0
     sensor_delay: int = 0
@@ -81,6 +120,7 @@ class Perturbation:
             self.noise_encoders != 0.0
             or self.noise_imu != 0.0
             or self.noise_ft != 0.0
+            or any(getattr(self, f"noise_{channel}") != 0.0 for channel in NOISE_CHANNELS)
             or self.noise_bias != 0.0
             or self.sensor_delay != 0
         )

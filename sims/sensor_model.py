@@ -2,8 +2,11 @@
 apply, between the simulator and the controller. The simulator's own `Sensors` stay exact
 (the runner records the ground truth from them); the estimator gets `SensorModel.observe`'s.
 
-Noise (`DATASHEET`, per control period of `dt` seconds, white and Gaussian, one standard
-deviation per channel, scaled by `Perturbation.noise_*`):
+Noise (white and Gaussian, one standard deviation per channel per control period of `dt`
+seconds: `channel_sigmas`). Each channel's figure is given either in SI units
+(`Perturbation.noise_<channel>`, for example `noise_gyro_rad_s`) or as a multiple of the data
+sheet's (`Perturbation.noise_encoders`, `noise_imu`, `noise_ft`, per sensor group); the data
+sheets (`DATASHEET`) are:
 
 - joint encoders: a 17-bit absolute encoder (for example RLS AksIM-2, sold at 17 to 20 bits):
   quantisation q = 2 pi / 2^17 rad, position sigma = q / sqrt(12); velocity as the finite
@@ -16,7 +19,8 @@ deviation per channel, scaled by `Perturbation.noise_*`):
   (x, y) and 1/376 N m (z) torque, taken as the standard deviation.
 
 A bias (`Perturbation.noise_bias` > 0) is a constant offset per episode per channel, drawn
-once with the same standard deviations times `noise_bias`. The noise comes from
+once with the channel's figure (its SI value if given, else the data sheet's) times
+`noise_bias`. The noise comes from
 `numpy.random.default_rng([seed, NOISE_STREAM])` (the bias from `BIAS_STREAM`), drawn as one
 vector per period in a fixed order whatever the simulator: the same seed gives the same noise
 in MuJoCo and PyBullet and on every executor.
@@ -34,7 +38,7 @@ from dataclasses import dataclass, replace
 
 import numpy as np
 
-from robots.perturbation import Perturbation
+from robots.perturbation import NOISE_CHANNELS, NOISE_GROUP_OF_CHANNEL, Perturbation
 from robots.types import JointCommand, Sensors
 from sims.base import quaternion_product
 
@@ -47,7 +51,8 @@ ENCODER_BITS = 17
 class NoiseFigures:
     """One standard deviation per channel for a control period of `dt` [s]: encoder position
     [rad] and velocity [rad/s], IMU tilt (roll, pitch) and heading [rad], gyro [rad/s],
-    accelerometer [m/s^2], force [N], moment about x, y and about z [N m]."""
+    accelerometer [m/s^2], force [N], moment about x, y and about z [N m]. The fields are
+    `robots.perturbation.NOISE_CHANNELS`, in order."""
 
     encoder_position_rad: float
     encoder_velocity_rad_s: float
@@ -82,21 +87,33 @@ DATASHEET = datasheet(0.002)
 """The figures at the default control period, 2 ms."""
 
 
+def channel_sigmas(perturbation: Perturbation, dt: float) -> NoiseFigures:
+    """Each channel's standard deviation for a control period `dt` [s]: its SI value
+    (`Perturbation.noise_<channel>`) where that is positive, else its group's multiple
+    (`noise_encoders`, `noise_imu`, `noise_ft`) of the data sheet's figure."""
+    sheet = datasheet(dt)
+    values = {}
+    for channel in NOISE_CHANNELS:
+        si = float(getattr(perturbation, f"noise_{channel}"))
+        multiple = float(getattr(perturbation, f"noise_{NOISE_GROUP_OF_CHANNEL[channel]}"))
+        values[channel] = si if si > 0.0 else multiple * getattr(sheet, channel)
+    return NoiseFigures(**values)
+
+
 def noise_sigmas(perturbation: Perturbation, n_joints: int, n_limbs: int, dt: float) -> np.ndarray:
-    """The standard deviation of every noisy entry, in the order `SensorModel` draws them:
-    joint positions (n), joint velocities (n), IMU rotation vector (3, world), gyro (3),
-    accelerometer (3), limb wrenches (6 per limb)."""
-    f = datasheet(dt)
-    encoders, imu, ft = perturbation.noise_encoders, perturbation.noise_imu, perturbation.noise_ft
+    """The standard deviation of every noisy entry (`channel_sigmas`), in the order
+    `SensorModel` draws them: joint positions (n), joint velocities (n), IMU rotation vector
+    (3, world), gyro (3), accelerometer (3), limb wrenches (6 per limb)."""
+    f = channel_sigmas(perturbation, dt)
     wrench = [f.force_N] * 3 + [f.moment_xy_Nm, f.moment_xy_Nm, f.moment_z_Nm]
     return np.concatenate(
         [
-            np.full(n_joints, encoders * f.encoder_position_rad),
-            np.full(n_joints, encoders * f.encoder_velocity_rad_s),
-            imu * np.array([f.imu_tilt_rad, f.imu_tilt_rad, f.imu_heading_rad]),
-            np.full(3, imu * f.gyro_rad_s),
-            np.full(3, imu * f.accelerometer_m_s2),
-            ft * np.tile(wrench, n_limbs),
+            np.full(n_joints, f.encoder_position_rad),
+            np.full(n_joints, f.encoder_velocity_rad_s),
+            np.array([f.imu_tilt_rad, f.imu_tilt_rad, f.imu_heading_rad]),
+            np.full(3, f.gyro_rad_s),
+            np.full(3, f.accelerometer_m_s2),
+            np.tile(wrench, n_limbs),
         ]
     )
 
@@ -119,7 +136,7 @@ class SensorModel:
         self.n, self.k = n_joints, n_limbs
         self.delay = int(perturbation.sensor_delay)
         sigma = noise_sigmas(perturbation, n_joints, n_limbs, dt)
-        unit = noise_sigmas(
+        unit = noise_sigmas(  # the bias's figures: SI values where given, else the data sheet's
             replace(perturbation, noise_encoders=1.0, noise_imu=1.0, noise_ft=1.0),
             n_joints,
             n_limbs,

@@ -378,7 +378,8 @@ def test_robustness_flags_make_the_specs_table(monkeypatch, tmp_path):
 
     monkeypatch.setattr(bench.sweep, "run_sweep", record)
     monkeypatch.chdir(tmp_path)
-    argv = [*SWEEP, "--noise", "1,imu=4", "--delay", "2", "--payload-kg", "5"]
+    argv = [*SWEEP, "--noise", "1,imu=4,gyro_rad_s=0.01", "--noise-force-n", "0.5"]
+    argv += ["--delay", "2", "--payload-kg", "5"]
     argv += ["--push-dv", "0.2", "--push-count", "2", "--push-replicas", "5"]
     argv += ["--push-phases", "walking"]
     argv += ["--push-swing-fractions", "0.2,0.7", "--push-directions", "random,inward"]
@@ -386,10 +387,20 @@ def test_robustness_flags_make_the_specs_table(monkeypatch, tmp_path):
         main(argv)
     (spec,) = seen
     labels = [(p.label() if p else "nominal") for p in spec.perturbations]
-    assert labels == ["nominal", "noise=1", "noise_imu=4", "delay=2", "payload_kg=5"]
+    assert labels == [
+        "nominal",
+        "noise=1",
+        "noise_imu=4",
+        "noise_gyro_rad_s=0.01",  # one channel in SI units, [rad/s]
+        "noise_force_N=0.5",
+        "delay=2",
+        "payload_kg=5",
+    ]
+    assert spec.perturbations[3].noise_gyro_rad_s == 0.01
+    assert spec.perturbations[3].noise_imu == 0.0
     assert spec.push.replicas == 5
     assert spec.push.swing_fractions == (0.2, 0.7)
     assert spec.push.directions == ("random", "inward")
-    # 5 perturbations x (1 stand + 2 fractions x (2 random + 1 inward) pushes x 5 replicas)
-    assert len(spec.episodes()) == 5 * (1 + 2 * 3 * 5)
+    # 7 perturbations x (1 stand + 2 fractions x (2 random + 1 inward) pushes x 5 replicas)
+    assert len(spec.episodes()) == 7 * (1 + 2 * 3 * 5)
     assert spec.push.episodes_per_grid_point() == 2 * 3 * 5

@@ -230,6 +230,10 @@ def test_robustness_table_varies_one_dimension_at_a_time():
     again = spec_from_mapping(json.loads(json.dumps(spec.to_dict())))
     assert [e.episode_id for e in again.episodes()] == [e.episode_id for e in spec.episodes()]
     assert dimension_of(perturbation_for("delay", 2)) == ("delay", 2.0)
+    gyro = parse_robustness({"nominal": False, "noise_gyro_rad_s": [0.01]})
+    assert gyro == (Perturbation(noise_gyro_rad_s=0.01),)
+    assert gyro[0].label() == "noise_gyro_rad_s=0.01"
+    assert dimension_of(gyro[0]) == ("noise_gyro_rad_s", 0.01)
     assert dimension_of(Perturbation(noise_imu=1.0, payload_kg=1.0)) is None
 
 
@@ -238,6 +242,11 @@ def test_robustness_table_varies_one_dimension_at_a_time():
     [
         ({"noise": [-1]}, "'robustness.noise' must be a list of numbers in [0, 1000]"),
         ({"delay": [1.5]}, "'robustness.delay' must be a list of integers in [0, 100]"),
+        (
+            {"noise_force_N": [-0.1]},
+            "'robustness.noise_force_N' must be a list of numbers in [0, 250] (N, one standard "
+            "deviation of white noise on the F/T forces only (data sheet: 0.25 at 2 ms)), got -0.1",
+        ),
         ({"torque_scale": [0]}, "'robustness.torque_scale' must be a list of numbers in (0, 10]"),
         ({"wind": [1]}, "'robustness.wind' is unknown"),
         ({"nominal": False}, "'robustness.nominal' is false and no dimension is given"),

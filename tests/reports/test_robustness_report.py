@@ -88,6 +88,18 @@ def fixture_rows() -> list[dict]:
                 )
         for index in range(10):  # the nominal pushes of the noise curve
             rows.append(_push(controller, "mujoco", 0.2, 100 + index, True))
+        for index in range(10):  # one channel's noise in SI units: 3 of 10 survive
+            rows.append(
+                _push(
+                    controller,
+                    "mujoco",
+                    0.2,
+                    100 + index,
+                    index < 3,
+                    perturbation="noise_force_N=0.5",
+                    noise_force_N=0.5,
+                )
+            )
         for name, alive in (("inward", False), ("outward", True)):
             rows.append(
                 _row(
@@ -122,6 +134,13 @@ def test_degradation_has_intervals_and_the_nominal_point(episodes):
     assert list(noise["survived"]) == [10, 6, 2]
     assert noise.iloc[1]["survival"] == fraction_cell(6, 10)
     assert noise.iloc[2]["com_rms_mm"] == pytest.approx(12.0)
+
+
+def test_a_channels_noise_in_si_units_is_a_dimension_of_its_own(episodes):
+    table = robustness.degradation_table(episodes)
+    force = table[(table["controller"] == "a+x") & (table["dimension"] == "noise_force_N")]
+    assert list(force["magnitude"]) == [0.0, 0.5]  # [N], with the nominal twins at 0
+    assert list(force["survived"]) == [10, 3]
 
 
 def test_half_survival_is_the_first_magnitude_at_half_the_nominal_rate(episodes):

@@ -92,6 +92,40 @@ def test_injected_noise_has_the_requested_standard_deviation(robot, model):
         assert offsets.std() == pytest.approx(requested, rel=0.05), channel
 
 
+def test_noise_given_in_si_units_replaces_the_data_sheets_for_that_channel(robot, model):
+    """The gyro's noise at 0.01 rad/s and the F/T force's at 1 N (SI units) beside the IMU
+    group at twice the data sheet: each channel's measured standard deviation within 5 % of
+    what was asked, the channels of no group or SI value exact."""
+    perturbation = Perturbation(noise_imu=2.0, noise_gyro_rad_s=0.01, noise_force_N=1.0)
+    requested = {
+        "gyro_rad_s": 0.01,
+        "force_N": 1.0,
+        "imu_tilt_rad": 2.0 * DATASHEET.imu_tilt_rad,
+        "imu_heading_rad": 2.0 * DATASHEET.imu_heading_rad,
+        "accelerometer_m_s2": 2.0 * DATASHEET.accelerometer_m_s2,
+    }
+    raw, read = _standing("mujoco", robot, model, 1999, perturbation)
+    for channel, offsets in _offsets(raw, read).items():
+        if channel in requested:
+            assert offsets.std() == pytest.approx(requested[channel], rel=0.05), channel
+        else:  # encoders and F/T moments: untouched
+            assert np.all(offsets == 0.0), channel
+
+
+def test_a_bias_scales_with_a_channels_si_figure(robot):
+    """The bias is drawn with each channel's figure: the gyro's with 0.01 rad/s is the data
+    sheet's bias (the same draws) times 0.01 / 1.95e-3; every other channel's is unchanged."""
+    n, k = robot.n_joints, len(robot.limbs)
+    sheet = SensorModel(Perturbation(noise_bias=1.0), 3, n, k, DT).bias
+    si = SensorModel(Perturbation(noise_bias=1.0, noise_gyro_rad_s=0.01), 3, n, k, DT).bias
+    gyro = slice(2 * n + 3, 2 * n + 6)  # after the encoders and the IMU's rotation
+    np.testing.assert_allclose(si[gyro], sheet[gyro] * 0.01 / DATASHEET.gyro_rad_s, rtol=1e-12)
+    assert np.abs(si[gyro]).max() > 1e-3  # a bias of the size asked for, not zero
+    others = np.ones(si.size, dtype=bool)
+    others[gyro] = False
+    np.testing.assert_array_equal(si[others], sheet[others])
+
+
 def test_the_same_seed_gives_the_same_noise_in_both_simulators(robot, model):
     perturbation = Perturbation(noise_encoders=1.0, noise_imu=1.0, noise_ft=1.0, noise_bias=1.0)
     mujoco = _offsets(*_standing("mujoco", robot, model, 50, perturbation))
