@@ -17,7 +17,7 @@ import numpy as np
 import pandas as pd
 
 from reports.robustness import nominal, protocol_pushes
-from reports.statistics import fraction_cell, wilson_interval
+from reports.statistics import fraction_cell, simulator_band, wilson_interval
 
 KEYS = ["controller", "sim"]
 TABLE_IV_STAGES = (
@@ -185,34 +185,80 @@ def walking_quality_table(episodes: pd.DataFrame) -> pd.DataFrame:
     return table
 
 
-def agreement_table(episodes: pd.DataFrame, phase: str = "standing") -> pd.DataFrame:
-    """MuJoCo against PyBullet per controller: survival rate over all pushes of `phase`
-    (and the difference, percentage points) and the walk's CoM tracking error [mm] (and the
-    difference)."""
-    rates = survival_rates(episodes, phase)
-    survival = rates.groupby(KEYS)[["survived", "pushes"]].sum()
-    survival = (100.0 * survival["survived"] / survival["pushes"]).unstack("sim")
-    tracking = walks(episodes).groupby(KEYS)["com_error_rms_m"].median().unstack("sim") * 1e3
-    controllers = sorted(set(episodes["controller"]))
+AGREEMENT_QUANTITIES = (
+    ("standing push survival", "%"),
+    ("walking push survival", "%"),
+    ("walk CoM tracking RMS", "mm"),
+    ("walk e_com (eq. 18)", "m s"),
+    ("walk e_zmp (eq. 18)", "m s"),
+    ("walk e_velocity (eq. 18)", "m/s"),
+    ("control time per period, median", "µs"),
+    ("planned wrench projection error, force", "N"),
+)
+"""The headline numbers `agreement_table` gives per simulator with their band: (name, unit)."""
+
+
+def _headline_numbers(episodes: pd.DataFrame) -> dict[str, pd.Series]:
+    """Each of `AGREEMENT_QUANTITIES` as a Series indexed by (controller, sim)."""
+    numbers = {}
+    for phase in ("standing", "walking"):
+        rates = survival_rates(episodes, phase)
+        totals = rates.groupby(KEYS)[["survived", "pushes"]].sum()
+        numbers[f"{phase} push survival"] = 100.0 * totals["survived"] / totals["pushes"]
+    walked = walks(episodes).groupby(KEYS)
+    numbers["walk CoM tracking RMS"] = 1e3 * walked["com_error_rms_m"].median()
+    for name in ("e_com", "e_zmp", "e_velocity"):
+        numbers[f"walk {name} (eq. 18)"] = walked[name].median()
+    numbers["control time per period, median"] = walked["lat_control_total_median_us"].median()
+    numbers["planned wrench projection error, force"] = walked["planned_force_N"].mean()
+    return numbers
+
+
+def agreement_table(episodes: pd.DataFrame) -> pd.DataFrame:
+    """Where the simulators disagree: every headline number (`AGREEMENT_QUANTITIES`: push
+    survival over all of the protocol's levels, standing and walking [%]; the nominal walk's
+    CoM tracking error [mm], eq. 18 errors, control time [µs] and planned projection error
+    [N]) per controller in each simulator, the band between the simulators (`band`: "low to
+    high", `reports.statistics.simulator_band`) and MuJoCo minus PyBullet. Rows: controller
+    x quantity, for the quantities measured in at least one simulator."""
+    columns = _AGREEMENT_COLUMNS.union(episodes.columns)
+    numbers = _headline_numbers(episodes.reindex(columns=columns))
+    sims = sorted(set(episodes["sim"]))
     rows = []
-    for controller in controllers:
-        row = {"controller": controller}
-        for label, frame, unit in (
-            ("survival", survival, "%"),
-            ("com_rms", tracking, "mm"),
-        ):
-            values = {}
-            for sim in ("mujoco", "pybullet"):
-                value = (
-                    frame.at[controller, sim]
-                    if controller in frame.index and sim in frame.columns
-                    else np.nan
-                )
-                values[sim] = value
-                row[f"{label} {sim} {unit}"] = value
-            row[f"{label} difference {unit}"] = values["mujoco"] - values["pybullet"]
-        rows.append(row)
-    return pd.DataFrame(rows)
+    for controller in sorted(set(episodes["controller"])):
+        for quantity, unit in AGREEMENT_QUANTITIES:
+            series = numbers[quantity]
+            values = {sim: float(series.get((controller, sim), math.nan)) for sim in sims}
+            if not any(math.isfinite(v) for v in values.values()):
+                continue
+            low, high = simulator_band(values)
+            rows.append(
+                {
+                    "controller": controller,
+                    "quantity": quantity,
+                    "unit": unit,
+                    **values,
+                    "band": f"{low:.3g} to {high:.3g}",
+                    "mujoco - pybullet": values.get("mujoco", math.nan)
+                    - values.get("pybullet", math.nan),
+                }
+            )
+    return pd.DataFrame(
+        rows, columns=["controller", "quantity", "unit", *sims, "band", "mujoco - pybullet"]
+    )
+
+
+_AGREEMENT_COLUMNS = pd.Index(
+    [
+        "com_error_rms_m",
+        "e_com",
+        "e_zmp",
+        "e_velocity",
+        "lat_control_total_median_us",
+        "planned_force_N",
+    ]
+)
+"""The row columns `_headline_numbers` reads (absent from result sets written before them)."""
 
 
 def status_table(episodes: pd.DataFrame) -> pd.DataFrame:

@@ -201,17 +201,26 @@ def test_corrupt_trace_and_foreign_file_are_left_out_with_a_note(results, tmp_pa
 
 def test_agreement_table_differences(results):
     _, fixture = results
-    table = tables.agreement_table(fixture)
-    assert list(table["controller"]) == list(CONTROLLERS)
-    for _, row in table.iterrows():
+    table = tables.agreement_table(fixture).set_index(["controller", "quantity"])
+    assert sorted(set(table.index.get_level_values(0))) == list(CONTROLLERS)
+    for controller in CONTROLLERS:
         rate = {
-            sim: 100 * sum(SURVIVED[(row["controller"], sim)]) / (PUSHES * len(LEVELS))
-            for sim in SIMS
+            sim: 100 * sum(SURVIVED[(controller, sim)]) / (PUSHES * len(LEVELS)) for sim in SIMS
         }
-        assert row["survival mujoco %"] == pytest.approx(rate["mujoco"])
-        assert row["survival difference %"] == pytest.approx(rate["mujoco"] - rate["pybullet"])
-        rms = {sim: 1e3 * WALKS[(row["controller"], sim)][0] for sim in SIMS}
-        assert row["com_rms difference mm"] == pytest.approx(rms["mujoco"] - rms["pybullet"])
+        row = table.loc[(controller, "standing push survival")]
+        assert row["mujoco"] == pytest.approx(rate["mujoco"])
+        assert row["mujoco - pybullet"] == pytest.approx(rate["mujoco"] - rate["pybullet"])
+        low, high = min(rate.values()), max(rate.values())
+        assert row["band"] == f"{low:.3g} to {high:.3g}"
+        rms = {sim: 1e3 * WALKS[(controller, sim)][0] for sim in SIMS}
+        row = table.loc[(controller, "walk CoM tracking RMS")]
+        assert row["pybullet"] == pytest.approx(rms["pybullet"])
+        assert row["mujoco - pybullet"] == pytest.approx(rms["mujoco"] - rms["pybullet"])
+        force = {sim: WALKS[(controller, sim)][1] for sim in SIMS}
+        row = table.loc[(controller, "planned wrench projection error, force")]
+        assert row["band"] == f"{min(force.values()):.3g} to {max(force.values()):.3g}"
+        # no walking pushes in the fixture: no row for them
+        assert (controller, "walking push survival") not in table.index
 
 
 def test_latency_projection_and_walking_tables(results):
