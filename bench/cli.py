@@ -1008,9 +1008,11 @@ def _demo(args: argparse.Namespace) -> int:
 def _sweep_mapping(args: argparse.Namespace) -> dict:
     """The spec's fields: from --spec (TOML), overridden by the flags given. SpecError for a
     --spec that cannot be read as TOML."""
-    from bench.sweep_spec import read_spec_file
+    from bench.sweep_spec import SpecError, read_spec_file
 
     data: dict = {} if args.spec is None else read_spec_file(args.spec)
+    if isinstance(data.get("protocols"), list):
+        return _job_mapping(args, data, SpecError)
     for flag in (
         "controllers",
         "sims",
@@ -1060,6 +1062,43 @@ def _sweep_mapping(args: argparse.Namespace) -> dict:
     return data
 
 
+JOB_FLAGS = ("controllers", "sims", "seeds")
+"""The grid flags that apply to a job of protocols: to each of its protocols."""
+
+
+def _job_mapping(args: argparse.Namespace, data: dict, error: type[Exception]) -> dict:
+    """A job of protocols (`[[protocols]]`) from --spec: --controllers, --sims and --seeds
+    replace those of every protocol, --name and the timeouts the job's; every other grid flag
+    is refused (it would mean something different in each protocol)."""
+    grid = ("scenarios", "scales", "frictions", "duration", "speeds", "push_dv", "push_count")
+    grid += ("push_phases", "push_seed", "push_replicas", "push_swing_fractions")
+    grid += ("push_directions", *(f"robustness_{d}" for d in DIMENSIONS))
+    for flag in grid:
+        if getattr(args, flag, None) is not None:
+            option = "--" + flag.removeprefix("robustness_").replace("_", "-").lower()
+            raise error(
+                f"{option}: the spec {args.spec} is a job of protocols; set it in its "
+                "[[protocols]] tables (only --controllers, --sims, --seeds, --name and the "
+                "timeouts apply to a whole job)"
+            )
+    data = dict(data)
+    protocols = [dict(p) if isinstance(p, dict) else p for p in data["protocols"]]
+    for flag in JOB_FLAGS:
+        value = getattr(args, flag)
+        if value is not None:
+            data[flag] = value
+            for protocol in protocols:
+                if isinstance(protocol, dict):
+                    protocol[flag] = value
+    data["protocols"] = protocols
+    if args.name is not None:
+        data["name"] = args.name
+    for flag in ("timeout_base_s", "timeout_per_sim_s"):
+        if getattr(args, flag) is not None:
+            data[flag] = getattr(args, flag)
+    return data
+
+
 def _sweep(args: argparse.Namespace) -> int:
     from bench.sweep import run_sweep
     from bench.sweep_spec import SpecError, spec_from_mapping
@@ -1076,6 +1115,12 @@ def _sweep(args: argparse.Namespace) -> int:
             f"sweep {spec.name!r}: {total} episodes{left} -> {out} ({args.executor})",
             file=sys.stderr,
         )
+        if spec.protocols:  # a job: what it runs, in order
+            counts: dict[str, int] = {}
+            for episode in spec.episodes():
+                counts[episode.protocol] = counts.get(episode.protocol, 0) + 1
+            for k, (name, count) in enumerate(counts.items()):
+                print(f"  {k + 1}/{len(counts)} {name}: {count} episodes", file=sys.stderr)
         for note in notes:
             print(f"  {note}", file=sys.stderr)
 

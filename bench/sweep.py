@@ -165,15 +165,17 @@ def run_sweep(
                 todo = [e for e in todo if e.refused is None]
                 random.Random(0).shuffle(todo)  # costs mixed over the run: the ETA holds
                 # ... except that the longest episodes go first (a stable sort keeps the
-                # shuffle among equals): a long walk started last would leave workers idle.
-                todo.sort(key=_longest_first)
+                # shuffle among equals): a long walk started last would leave workers idle;
+                # a job's protocols run one after the other, in the spec's order.
+                order = {protocol.name: k for k, protocol in enumerate(spec.protocols)}
+                todo.sort(key=lambda e: (order.get(e.protocol, 0), _longest_first(e)))
                 if on_start is not None:
                     notes = [f"{p.name} moved to corrupt/: {why}" for p, why in store.bad_files]
                     on_start(len(episodes), len(todo), notes)
                 bar = _progress(len(episodes), len(episodes) - len(todo), progress)
                 results = runner.map_unordered(work, todo, budget=_budget(spec))
                 with contextlib.closing(results):  # its workers stop even on an exception
-                    _run_episodes(results, store, bar)
+                    _run_episodes(results, store, bar, _protocol_counts(episodes))
             except BaseException:
                 store.restore_aside()  # no-op once an episode was written
                 raise
@@ -185,9 +187,25 @@ def run_sweep(
     return read_episodes(out)
 
 
-def _run_episodes(results: Iterator[tuple[Episode, Any]], store: ResultStore, bar) -> None:
-    """Write every result as it comes (a failure as its row) and advance the progress bar."""
+def _protocol_counts(episodes: list[Episode]) -> dict[str, int]:
+    """A job's episodes per protocol, in the job's order (empty for a sweep of one)."""
+    counts: dict[str, int] = {}
+    for episode in episodes:
+        if episode.protocol is not None:
+            counts[episode.protocol] = counts.get(episode.protocol, 0) + 1
+    return counts
+
+
+def _run_episodes(
+    results: Iterator[tuple[Episode, Any]],
+    store: ResultStore,
+    bar,
+    protocols: dict[str, int] | None = None,
+) -> None:
+    """Write every result as it comes (a failure as its row) and advance the progress bar;
+    for a job, the bar names the protocol of the episode that finished last ("k/n name")."""
     falls = errors = 0
+    names = list(protocols or {})
     for episode, result in results:
         if isinstance(result, BaseException):
             row, trace, footsteps = _failure_row(episode, result), None, None
@@ -199,6 +217,11 @@ def _run_episodes(results: Iterator[tuple[Episode, Any]], store: ResultStore, ba
         falls += row["status"] == "fell"
         errors += row["status"] in RETRIED_STATUSES
         if bar is not None:
+            if episode.protocol in names:
+                bar.set_description(
+                    f"{names.index(episode.protocol) + 1}/{len(names)} {episode.protocol}",
+                    refresh=False,
+                )
             bar.set_postfix(fell=falls, errors=errors, refresh=False)
             bar.update(1)
 

@@ -31,6 +31,23 @@ A spec (every field but `controllers` and `sims` optional)::
     delay = [1]                 #  mass_error, torque_scale, gain_scale, ground_height_m,
                                 #  slope_deg, ...)
 
+A job of several protocols (the main job: `bench/specs/main.toml`) lists them as
+`[[protocols]]` tables, each a sweep's fields with its own `name`; a protocol's fields default
+to the job's top-level ones, the timeouts are the job's. The job runs its protocols one after
+the other (the progress bar names the one running); an episode two protocols share runs once::
+
+    name = "main"
+    controllers = ["all"]
+    sims = ["all"]
+
+    [[protocols]]
+    name = "standing_pushes"
+    push = { phases = ["standing"], dv = [0.3, 0.4], count = 20 }
+
+    [[protocols]]
+    name = "walks"
+    scenarios = ["walk"]
+
 Validation happens before anything runs: a wrong spec raises `SpecError`, one message naming
 the field and what it accepts. The numeric ranges (seeds, scales, frictions, durations, push
 levels and counts, the number of episodes) and the rule for `name` are in `bench.limits`.
@@ -43,7 +60,7 @@ import hashlib
 import itertools
 import json
 import tomllib
-from dataclasses import asdict, dataclass, field
+from dataclasses import asdict, dataclass, field, replace
 from pathlib import Path
 from typing import Any
 
@@ -95,6 +112,7 @@ class Episode:
     push_index: int | None = None
     keep_trace: bool = False
     refused: str | None = None  # why the controller cannot run the scenario: an "n/a" row
+    protocol: str | None = None  # the `[[protocols]]` entry it came from (not in its id)
 
     def labels(self) -> dict[str, Any]:
         push_time = self.run.push_time
@@ -148,11 +166,20 @@ class SweepSpec:
     timeout_per_sim_s: float = 10.0
     # robustness dimensions (`bench.robustness`): None is the nominal episode
     perturbations: tuple[Perturbation | None, ...] = (None,)
+    # a job of several protocols (`[[protocols]]`): each a complete sweep of its own, the
+    # fields above its defaults; the job's episodes are theirs, in order, each once
+    protocols: tuple[SweepSpec, ...] = ()
     extra: dict = field(default_factory=dict, compare=False, repr=False)
 
     def to_dict(self) -> dict[str, Any]:
         data = asdict(self)
         data.pop("extra")
+        data.pop("protocols")
+        if self.protocols:  # each protocol's fields whole (they win over the job's on reading)
+            data["protocols"] = [
+                {k: v for k, v in protocol.to_dict().items() if k not in EXECUTION_FIELDS}
+                for protocol in self.protocols
+            ]
         if self.push is not None:  # the protocol's later fields at their defaults: as before
             for name, default in (
                 ("replicas", 1),
@@ -184,6 +211,24 @@ class SweepSpec:
     def digest(self) -> str:
         return hashlib.sha1(json.dumps(self.identity(), sort_keys=True).encode()).hexdigest()[:12]
 
+    def size(self) -> int:
+        """The number of episodes of the grid, from its axes, without listing them (a job's:
+        the sum of its protocols', counting an episode they share more than once)."""
+        if self.protocols:
+            return sum(protocol.size() for protocol in self.protocols)
+        plain = sum(len(self.speeds_of(scenario)) for scenario in self.scenarios)
+        per_point = plain + (self.push.episodes_per_grid_point() if self.push else 0)
+        return (
+            len(self.controllers)
+            * len(self.sims)
+            * len(self.perturbations)
+            * len(self.robots)
+            * len(self.scales)
+            * len(self.frictions)
+            * len(self.seeds)
+            * per_point
+        )
+
     def speeds_of(self, scenario: str) -> tuple[float | None, ...]:
         """The forward speeds [m/s] a plain scenario runs at (None: its own)."""
         return self.speeds if self.speeds and scenario in WALKS_WITH_SPEED else (None,)
@@ -200,7 +245,17 @@ class SweepSpec:
         return self.estimator
 
     def episodes(self) -> list[Episode]:
-        """Every episode of the grid, in a fixed order, each with a stable id."""
+        """Every episode of the grid, in a fixed order, each with a stable id; for a job of
+        protocols, those of each protocol in order (labelled with its name), an episode that
+        two protocols share once, under the first."""
+        if self.protocols:
+            result, seen = [], set()
+            for protocol in self.protocols:
+                for episode in protocol.episodes():
+                    if episode.episode_id not in seen:
+                        seen.add(episode.episode_id)
+                        result.append(replace(episode, protocol=protocol.name))
+            return result
         result = []
         for controller in self.controllers:
             pair = controller_spec(controller)
@@ -282,6 +337,7 @@ _TOP_FIELDS = {
     "timeout_base_s": "a positive number of seconds (wall-clock budget of every episode)",
     "timeout_per_sim_s": "a positive number (wall-clock seconds per simulated second)",
     "robustness": "a table of robustness dimensions (see bench.robustness)",
+    "protocols": "a list of tables ([[protocols]]), each a sweep's fields with a 'name'",
 }
 # fields that say how a sweep runs, not what it measures (not part of its digest)
 EXECUTION_FIELDS = ("timeout_base_s", "timeout_per_sim_s")
@@ -333,7 +389,69 @@ def read_spec_file(path: str | Path) -> dict[str, Any]:
 
 
 def spec_from_mapping(data: dict[str, Any]) -> SweepSpec:
-    """Validate a spec given as a mapping (parsed TOML, or built from CLI flags)."""
+    """Validate a spec given as a mapping (parsed TOML, or built from CLI flags): one sweep,
+    or a job of several protocols (`[[protocols]]`: `_job_from_mapping`)."""
+    if isinstance(data, dict) and "protocols" in data:
+        return _job_from_mapping(data)
+    return _sweep_from_mapping(data)
+
+
+MAX_PROTOCOLS = 100
+
+
+def _job_from_mapping(data: dict[str, Any]) -> SweepSpec:
+    """A job of protocols: every `[[protocols]]` table is a sweep spec whose fields default to
+    the job's top-level ones (a protocol's own win); each needs a distinct `name` (what the
+    progress bar shows while it runs); the timeouts are set once, at the top. The job's
+    top-level fields need not give episodes of their own."""
+    protocols = data["protocols"]
+    if (
+        not isinstance(protocols, list)
+        or not protocols
+        or not all(isinstance(p, dict) for p in protocols)
+    ):
+        raise SpecError(f"sweep spec field 'protocols' must be {_TOP_FIELDS['protocols']}")
+    if len(protocols) > MAX_PROTOCOLS:
+        raise SpecError(
+            f"sweep spec field 'protocols' has {len(protocols)} tables, more than "
+            f"{MAX_PROTOCOLS}; split the job"
+        )
+    top = {k: v for k, v in data.items() if k != "protocols"}
+    job = _sweep_from_mapping(top, episodes_required=False)
+    parts: list[SweepSpec] = []
+    for k, table in enumerate(protocols):
+        here = f"protocols[{k}]"
+        shared = sorted(set(table) & {"protocols", *EXECUTION_FIELDS})
+        if shared:
+            raise SpecError(
+                f"sweep spec field '{here}.{shared[0]}': set it once, for the whole job, at the top"
+            )
+        if "name" not in table:
+            raise SpecError(
+                f"sweep spec field '{here}' needs a 'name' ({NAME_RULE}: shown while it runs)"
+            )
+        try:
+            part = _sweep_from_mapping({**top, **table})
+        except SpecError as exc:
+            raise SpecError(f"protocol {table['name']!r} ({here}): {exc}") from None
+        if part.name in [p.name for p in parts] or part.name == job.name:
+            raise SpecError(
+                f"sweep spec field '{here}.name': {part.name!r} names the job or another "
+                "protocol; give each its own"
+            )
+        parts.append(part)
+    total = sum(part.size() for part in parts)
+    if total > MAX_EPISODES:
+        raise SpecError(
+            f"sweep spec: its protocols have {total} episodes, more than the {MAX_EPISODES} a "
+            "sweep may have; split it into several sweeps"
+        )
+    return replace(job, protocols=tuple(parts))
+
+
+def _sweep_from_mapping(data: dict[str, Any], episodes_required: bool = True) -> SweepSpec:
+    """One sweep's spec (no protocols); with `episodes_required` False, a job's top-level
+    fields, which may give no episodes."""
     if not isinstance(data, dict):
         raise SpecError("a sweep spec must be a table of fields")
     unknown = sorted(set(data) - set(_TOP_FIELDS))
@@ -413,7 +531,7 @@ def spec_from_mapping(data: dict[str, Any]) -> SweepSpec:
             perturbations = parse_robustness(data["robustness"])
         except ValueError as exc:
             raise SpecError(f"sweep spec field 'robustness.{exc}") from None
-    if not scenarios and push is None:
+    if not scenarios and push is None and episodes_required:
         raise SpecError(
             "sweep spec: no episodes; give 'scenarios' (one of: "
             f"{', '.join(SCENARIOS)}) or a 'push' table (phases: {', '.join(PHASES)})"
@@ -429,28 +547,9 @@ def spec_from_mapping(data: dict[str, Any]) -> SweepSpec:
             "sweep spec field 'speeds' applies to the scenarios "
             f"{', '.join(WALKS_WITH_SPEED)}, and 'scenarios' has none of them"
         )
-    # the grid's size from its axes, before any episode is listed
-    plain = sum(len(speeds) if speeds and s in WALKS_WITH_SPEED else 1 for s in scenarios)
-    per_point = plain + (push.episodes_per_grid_point() if push else 0)
-    total = (
-        len(controllers)
-        * len(sims)
-        * len(perturbations)
-        * len(robots)
-        * len(scales)
-        * len(frictions)
-        * len(seeds)
-    ) * per_point
-    if total > MAX_EPISODES:
-        raise SpecError(
-            f"sweep spec: {total} episodes (controllers x sims x robustness x robots x scales x "
-            "frictions x seeds x "
-            f"(scenarios + push phases x dv x count x replicas)), more than the {MAX_EPISODES} "
-            "a sweep may have; split it into several sweeps"
-        )
     if push is not None and "walking" in push.phases:
         _check_walking_push(push, scales, robots)
-    return SweepSpec(
+    spec = SweepSpec(
         controllers=controllers,
         sims=sims,
         name=name,
@@ -467,6 +566,15 @@ def spec_from_mapping(data: dict[str, Any]) -> SweepSpec:
         perturbations=perturbations,
         **timeouts,
     )
+    total = spec.size()
+    if total > MAX_EPISODES:
+        raise SpecError(
+            f"sweep spec: {total} episodes (controllers x sims x robustness x robots x scales x "
+            "frictions x seeds x "
+            f"(scenarios + push phases x dv x count x replicas)), more than the {MAX_EPISODES} "
+            "a sweep may have; split it into several sweeps"
+        )
+    return spec
 
 
 def _check_controller(name: str) -> None:

@@ -113,9 +113,11 @@ def _trace_dir(row: pd.Series) -> Path:
 
 
 def survival_time_s(record: dict | None) -> float:
-    """The spec's survival window after a push [s] (the protocol's default, 3 s, when the
-    record does not say)."""
-    push = (record or {}).get("spec", {}).get("push") or {}
+    """The spec's survival window after a push [s] (a job's: that of its first protocol with
+    pushes; the protocol's default, 3 s, when the record does not say)."""
+    spec = (record or {}).get("spec", {})
+    tables = [spec, *(p for p in spec.get("protocols") or [] if isinstance(p, dict))]
+    push = next((t["push"] for t in tables if isinstance(t.get("push"), dict)), {})
     value = push.get("survival_time", 3.0)
     return float(value) if isinstance(value, int | float) else 3.0
 

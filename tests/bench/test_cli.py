@@ -404,3 +404,44 @@ def test_robustness_flags_make_the_specs_table(monkeypatch, tmp_path):
     # 7 perturbations x (1 stand + 2 fractions x (2 random + 1 inward) pushes x 5 replicas)
     assert len(spec.episodes()) == 7 * (1 + 2 * 3 * 5)
     assert spec.push.episodes_per_grid_point() == 2 * 3 * 5
+
+
+JOB_TOML = """
+name = "job"
+controllers = ["all"]
+sims = ["mujoco"]
+
+[[protocols]]
+name = "pushes"
+push = { dv = [0.3], count = 2 }
+
+[[protocols]]
+name = "walks"
+controllers = ["preview_control+centroidal_feedback"]
+scenarios = ["walk"]
+"""
+
+
+def test_a_jobs_flags_apply_to_every_protocol_or_are_refused(monkeypatch, tmp_path, capsys):
+    """--controllers, --sims and --seeds replace those of every protocol of a job; a flag
+    that would mean something different in each protocol (--push-dv) is refused."""
+    import bench.sweep
+
+    seen = []
+
+    def record(spec, *args, **kwargs):
+        seen.append(spec)
+        raise Ran("recorded")
+
+    monkeypatch.setattr(bench.sweep, "run_sweep", record)
+    monkeypatch.chdir(tmp_path)
+    (tmp_path / "job.toml").write_text(JOB_TOML)
+    with pytest.raises(Ran):
+        main(["sweep", "--spec", "job.toml", "--controllers", "hold+posture", "--seeds", "3"])
+    (spec,) = seen
+    assert [p.name for p in spec.protocols] == ["pushes", "walks"]
+    assert [p.controllers for p in spec.protocols] == [("hold+posture",)] * 2
+    assert [p.seeds for p in spec.protocols] == [(3,)] * 2
+    line = refused(["sweep", "--spec", "job.toml", "--push-dv", "0.2"], capsys)
+    assert "--push-dv: the spec job.toml is a job of protocols; set it in its [[protocols]]" in line
+    assert not seen[1:]

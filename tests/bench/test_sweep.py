@@ -266,3 +266,31 @@ def test_a_sweep_over_two_robots_reports_them_side_by_side(tmp_path: Path):
     report = (tmp_path / "report" / "report.md").read_text()
     survival = report[report.index("hold+posture @ centrobench_humanoid") :]
     assert "hold+posture @ jvrc1" in survival
+
+
+def recording_protocol_work(episode):
+    """Records which protocol each episode came from, in the order they start; runs none."""
+    from bench.sweep import _failure_row
+
+    with open(os.environ[_ORDER_ENV], "a") as log:
+        log.write(f"{episode.protocol}\n")
+    return _failure_row(episode, RuntimeError("not run: order test")), None
+
+
+def test_a_jobs_protocols_run_one_after_the_other(tmp_path: Path, monkeypatch):
+    """A job of two protocols: the second's episodes start only after every one of the first
+    (its walk, the longest, does not jump the queue), and each episode runs once."""
+    log = tmp_path / "order.txt"
+    monkeypatch.setenv(_ORDER_ENV, str(log))
+    spec = spec_from_mapping(
+        {
+            "controllers": ["hold+posture"],
+            "sims": ["mujoco"],
+            "protocols": [
+                {"name": "pushes", "push": {"dv": [0.3], "count": 3}},
+                {"name": "walks", "scenarios": ["walk"]},
+            ],
+        }
+    )
+    run_sweep(spec, tmp_path / "out", workers=1, progress=False, work=recording_protocol_work)
+    assert log.read_text().splitlines() == ["pushes"] * 3 + ["walks"]

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import json
 from pathlib import Path
 
 import numpy as np
@@ -359,3 +360,87 @@ def test_robots_multiply_the_grid_and_push_each_with_its_own_mass():
         assert len(pushes) == 2
         assert all(run.push_impulse == pytest.approx(0.2 * mass, rel=1e-9) for run in pushes)
         assert robot_mass(1.0, robot) == pytest.approx(mass, rel=1e-12)
+
+
+JOB = {
+    "name": "job",
+    "controllers": ["hold+posture", "preview_control+centroidal_feedback"],
+    "sims": ["mujoco"],
+    "timeout_base_s": 30.0,
+    "protocols": [
+        {"name": "standing", "scenarios": ["walk"], "push": {"dv": [0.2, 0.3], "count": 2}},
+        {"name": "walks", "scenarios": ["walk", "stand"], "sims": ["mujoco", "pybullet"]},
+        {"name": "one", "controllers": ["hold+posture"], "push": {"dv": [0.4], "count": 1}},
+    ],
+}
+
+
+def test_a_job_is_its_protocols_episodes_in_order_each_once():
+    job = spec_from_mapping(JOB)
+    top = {k: v for k, v in JOB.items() if k != "protocols"}
+    parts = {
+        p.name: spec_from_mapping({**top, **table})
+        for p, table in zip(job.protocols, JOB["protocols"], strict=True)
+    }
+    # each protocol is the job's fields with its own winning: the same episodes as alone
+    assert [p.controllers for p in job.protocols] == [
+        tuple(JOB["controllers"]),
+        tuple(JOB["controllers"]),
+        ("hold+posture",),
+    ]
+    assert job.protocols[1].sims == ("mujoco", "pybullet")
+    assert job.protocols[0].timeout_base_s == 30.0  # the job's timeouts hold in every one
+    episodes = job.episodes()
+    ids = [e.episode_id for e in episodes]
+    assert len(ids) == len(set(ids))
+    # the MuJoCo walks of "walks" are those of "standing": listed once, under "standing"
+    standing = {e.episode_id for e in parts["standing"].episodes()}
+    walks = [e for e in episodes if e.protocol == "walks"]
+    assert {e.run.scenario for e in walks if e.run.sim == "mujoco"} == {"stand"}
+    assert len(walks) == 2 * 2 * 2 - 2  # controllers x sims x scenarios, less the 2 shared
+    expected = []
+    for part in parts.values():
+        expected += [e.episode_id for e in part.episodes() if e.episode_id not in expected]
+    assert ids == expected
+    assert all(e.protocol == "standing" for e in episodes if e.episode_id in standing)
+    assert job.size() == sum(len(p.episodes()) for p in parts.values())
+    # its record reads back to the same job (sweep.json, replays), with the same digest
+    again = spec_from_mapping(json.loads(json.dumps(job.to_dict())))
+    assert again == job
+    assert again.digest() == job.digest()
+    assert [e.episode_id for e in again.episodes()] == ids
+    # a protocol's episodes keep the ids they have in a sweep of their own
+    alone = {e.episode_id for e in spec_from_mapping({**top, **JOB["protocols"][2]}).episodes()}
+    assert alone <= set(ids)
+
+
+@pytest.mark.parametrize(
+    ("change", "message"),
+    [
+        ({"protocols": []}, "field 'protocols' must be a list of tables ([[protocols]])"),
+        ({"protocols": [{"scenarios": ["walk"]}]}, "field 'protocols[0]' needs a 'name'"),
+        (
+            {"protocols": [{"name": "a", "scenarios": ["walk"], "timeout_base_s": 5.0}]},
+            "field 'protocols[0].timeout_base_s': set it once, for the whole job, at the top",
+        ),
+        (
+            {
+                "protocols": [
+                    {"name": "a", "scenarios": ["walk"]},
+                    {"name": "a", "scenarios": ["stand"]},
+                ]
+            },
+            "field 'protocols[1].name': 'a' names the job or another protocol",
+        ),
+        (
+            {"protocols": [{"name": "a", "scenarios": ["jump"]}]},
+            "protocol 'a' (protocols[0]): sweep spec field 'scenarios': unknown 'jump'",
+        ),
+        ({"protocols": [{"name": "a"}]}, "protocol 'a' (protocols[0]): sweep spec: no episodes"),
+    ],
+)
+def test_bad_jobs_are_refused_with_one_line(change, message):
+    with pytest.raises(SpecError) as error:
+        spec_from_mapping({**JOB, **change})
+    assert message in str(error.value)
+    assert "\n" not in str(error.value)
