@@ -20,6 +20,7 @@ import pandas as pd
 
 from bench.metrics import feedback_magnitude
 from bench.runner import EpisodeSpec, run_episode
+from reports.paper_figures import PAPER_SEC_V_G
 from robots.robot_registry import DEFAULT_ROBOT, make_robot
 
 COMPARISON_COLUMNS = (
@@ -73,39 +74,6 @@ def _row(spec: EpisodeSpec) -> dict:
     row["update_median_us"] = update.get("median")
     row["update_p99_us"] = update.get("p99")
     return row
-
-
-PAPER_SEC_V_G: dict[tuple[str, str], dict[str, float]] = {
-    ("handrail_stairs", "preview_control"): {
-        "planned_force_N": 2.2,
-        "planned_moment_Nm": 4.4,
-        "desired_force_N": 3.7,
-        "desired_moment_Nm": 4.7,
-    },
-    ("handrail_stairs", "linear_mpc"): {
-        "planned_force_N": 0.0,
-        "planned_moment_Nm": 0.0,
-        "desired_force_N": 0.42,
-        "desired_moment_Nm": 0.52,
-    },
-    ("ladder", "preview_control"): {
-        "planned_force_N": 0.0,
-        "planned_moment_Nm": 0.0,
-        "desired_force_N": 9.0,
-        "desired_moment_Nm": 8.7,
-    },
-    ("ladder", "linear_mpc"): {
-        "planned_force_N": 0.0,
-        "planned_moment_Nm": 0.0,
-        "desired_force_N": 9.3,
-        "desired_moment_Nm": 9.1,
-    },
-}
-"""Murooka et al. 2022, Sec. V-G (HRP-5P in Choreonoid): the mean projection errors of the
-planned resultant wrench (||w-bar^p - w-bar^p'||) and of the desired one, for climbing the
-handrail stairs (Fig. 4 B) and the ladder (C), with the proposed preview control and with the
-linear MPC of its ref. [5]; "no significant differences were found in the scale of feedback
-wrench (11), CoM acceleration, and angular momentum" (no numbers printed)."""
 
 
 def paper_rows(scenario: str, planners: Sequence[str]) -> pd.DataFrame | None:

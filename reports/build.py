@@ -15,7 +15,7 @@ from pathlib import Path
 import pandas as pd
 import pyarrow.parquet as pq
 
-from reports import plots, robustness, tables
+from reports import headlines, plots, robustness, tables
 
 TITLE = "centrobench report"
 
@@ -157,11 +157,14 @@ def sections(
     benchmark: dict | None = None,
     survival_time: float = 3.0,
     solve_times: dict[str, dict[str, float]] | None = None,
+    speed: pd.DataFrame | None = None,
 ) -> list[tuple[str, str, pd.DataFrame]]:
-    """(title, explanation, table) in report order; `survival_time` [s] is the spec's;
+    """(title, explanation, table) in report order: the headline tables first (one per
+    question, `reports.headlines`), then the details; `survival_time` [s] is the spec's;
     `solve_times` the hierarchy's solve times of the reach episodes with a stored trace
-    (`tables.reach_table`)."""
-    result = [
+    (`tables.reach_table`); `speed` the maximum-speed protocol's walks (`centrobench speed`)."""
+    result = _headline_sections(episodes, speed)
+    result += [
         (
             "Episodes by status",
             "Every episode of the sweep, by how it ended (ok, fell, error: the controller or "
@@ -192,17 +195,6 @@ def sections(
             tables.projection_table(episodes),
         ),
     ]
-    headline = robustness.headline_survival(episodes)
-    if len(headline):
-        result.append(
-            (
-                "Push survival over all levels, both simulators",
-                "Per controller and push phase: the protocol's pushes survived over all levels "
-                "in each simulator, with the 95 % Wilson interval, and the band between the two "
-                "simulators' rates [%].",
-                headline,
-            )
-        )
     for phase in ("standing", "walking"):
         table = tables.survival_table(episodes, phase)
         if len(table):
@@ -241,15 +233,6 @@ def sections(
             "CoM tracking error RMS [mm].",
             tables.walking_quality_table(episodes),
         ),
-        (
-            "MuJoCo against PyBullet",
-            "Every headline number per controller in each simulator, the band between the "
-            "simulators (low to high) and their difference (MuJoCo minus PyBullet): push "
-            "survival over all of the protocol's levels [%], and from the nominal walk the "
-            "CoM tracking error, the eq. 18 errors, the control time per period and the "
-            "planned wrench projection error.",
-            tables.agreement_table(episodes),
-        ),
     ]
     if len(tables.reaches(episodes)):
         result.append(
@@ -273,6 +256,76 @@ def sections(
                 f"From {benchmark.get('machine_info', {}).get('cpu', {}).get('brand_raw', '?')}, "
                 f"{benchmark.get('datetime', '?')}.",
                 tables.benchmark_table(benchmark),
+            )
+        )
+    return result
+
+
+def _headline_sections(
+    episodes: pd.DataFrame, speed: pd.DataFrame | None
+) -> list[tuple[str, str, pd.DataFrame]]:
+    """One table per question (`reports.headlines`), those with something to show."""
+    result = []
+    survival = robustness.headline_survival(episodes)
+    if len(survival):
+        result.append(
+            (
+                "1. Which pushes each controller survives",
+                "Per controller and push phase: the protocol's pushes survived over all levels "
+                "in each simulator, with the 95 % Wilson interval, and the band between the two "
+                "simulators' rates [%] (per level: the push survival tables below).",
+                survival,
+            )
+        )
+    if speed is not None and len(speed):
+        result.append(
+            (
+                "2. How fast each controller walks (Ficht & Behnke Table 1)",
+                "Per controller and simulator (`centrobench speed`): the highest commanded "
+                "forward speed v_ref it walked a walk at without falling (a ladder of speeds "
+                "refined by bisection), the mean speed v walked there over the steady steps, "
+                "and eq. 18's e_c [m s], e_z [m s], e_v [m/s] against its own plan there; "
+                "walks: how many the search took.",
+                tables.speed_table(speed),
+            )
+        )
+    benchmarks = headlines.paper_benchmarks(episodes)
+    if len(benchmarks):
+        result.append(
+            (
+                "3. The papers' own benchmarks",
+                "Murooka et al.'s motions of Fig. 4 (A)-(C) with Table IV's stage times "
+                "(the paper's: its preview control in C++ on an i7-9750H, without the "
+                "whole-body IK) and Sec. V-G's mean projection errors (its preview control and "
+                "linear MPC on (B) and (C)); Sherikov et al.'s reaching tests with the final "
+                "hand error. outcome: how the episode ended (numbers up to a fall; n/a: the "
+                "controller cannot run it).",
+                benchmarks,
+            )
+        )
+    cost = headlines.cost_table(episodes)
+    if len(cost):
+        result.append(
+            (
+                "4. What each controller costs per control period",
+                "From the nominal walk: the control time per 2 ms period (estimator, planner, "
+                "stabilizer, whole-body layer) [µs], median and p99, beside the simulator "
+                "engine's own step for the same period in the same run, and the stages' "
+                "medians.",
+                cost,
+            )
+        )
+    agreement = tables.agreement_table(episodes)
+    if len(agreement):
+        result.append(
+            (
+                "5. Where MuJoCo and PyBullet disagree",
+                "Every headline number per controller in each simulator, the band between the "
+                "simulators (low to high) and their difference (MuJoCo minus PyBullet): push "
+                "survival over all of the protocol's levels [%], and from the nominal walk the "
+                "CoM tracking error, the eq. 18 errors, the control time per period and the "
+                "planned wrench projection error.",
+                agreement,
             )
         )
     return result
@@ -411,25 +464,13 @@ def build_report(
         for episode_id, (_, trace, _) in reach_traces.items()
         if (stats := tables.solve_time_stats(trace, plots.HIERARCHY_TIME_COLUMN))
     }
-    parts = sections(episodes, benchmark, survival_time_s(record), solve_times)
+    trials = [t for t in (_speed_trials(root, notes) for root in roots) if t is not None]
+    speed = pd.concat(trials, ignore_index=True) if trials else None
+    parts = sections(episodes, benchmark, survival_time_s(record), solve_times, speed)
     parts = [
         (title, text, _with_replay_files(table, out) if title == "Replays" else table)
         for title, text, table in parts
     ]
-    trials = [t for t in (_speed_trials(root, notes) for root in roots) if t is not None]
-    speed = pd.concat(trials, ignore_index=True) if trials else None
-    if speed is not None:
-        parts.append(
-            (
-                "Maximum walking speed (Ficht & Behnke Table 1)",
-                "Per controller and simulator (`centrobench speed`): the highest commanded "
-                "forward speed v_ref it walked a walk at without falling (a ladder of 0.05 m/s "
-                "refined by bisection to 0.01 m/s), the mean speed v walked there over the "
-                "steady steps, and eq. 18's e_c [m s], e_z [m s], e_v [m/s] against its own "
-                "plan there; walks: how many the search took.",
-                tables.speed_table(speed),
-            )
-        )
     figures: list[tuple[str, Path]] = []
     rates = tables.survival_rates(episodes, "standing")
     if len(rates):

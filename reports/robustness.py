@@ -92,9 +92,8 @@ def _survived(rows: pd.DataFrame) -> pd.Series:
 
 def protocol_of(rows: pd.DataFrame) -> pd.Series:
     """What an episode measures: "standing push", "walking push", or its scenario."""
-    return (
-        rows["push_phase"].map(lambda p: f"{p} push", na_action="ignore").fillna(rows["scenario"])
-    )
+    pushed = rows["push_phase"].map(lambda p: f"{p} push", na_action="ignore").astype(object)
+    return pushed.where(pushed.notna(), rows["scenario"])
 
 
 def degradation_table(episodes: pd.DataFrame) -> pd.DataFrame:

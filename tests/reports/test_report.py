@@ -276,7 +276,7 @@ def test_report_files_hold_every_table(results, tmp_path: Path):
         "Wrench projection errors",
         "Push survival, standing",
         "Walking quality",
-        "MuJoCo against PyBullet",
+        "5. Where MuJoCo and PyBullet disagree",
         "pytest-benchmark",
     ):
         assert title in markdown
@@ -343,8 +343,8 @@ def test_the_maximum_speed_table_joins_the_report_when_its_walks_are_there(resul
     ).to_parquet(copy / "speed.parquet")
     build_report(copy, tmp_path / "report")
     markdown = (tmp_path / "report" / "report.md").read_text()
-    assert "Maximum walking speed (Ficht & Behnke Table 1)" in markdown
-    section = markdown.split("Maximum walking speed")[1]
+    assert "2. How fast each controller walks (Ficht & Behnke Table 1)" in markdown
+    section = markdown.split("2. How fast each controller walks")[1].split("\n## ")[0]
     rows = {
         line.split("|")[1].strip(): [cell.strip() for cell in line.split("|")[2:-1]]
         for line in section.splitlines()

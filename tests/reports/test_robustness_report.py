@@ -204,7 +204,7 @@ def test_report_has_every_robustness_section(tmp_path: Path):
     paths = build_report(root, tmp_path / "report")
     markdown = (tmp_path / "report" / "report.md").read_text()
     for title in (
-        "Push survival over all levels, both simulators",
+        "1. Which pushes each controller survives",
         "Robust push thresholds",
         "Paired comparisons, standing pushes",
         "Walking pushes by timing and direction",

@@ -1,0 +1,119 @@
+"""The report's opening (issue 22): one table per question a user asks of a comparison, each
+from the nominal episodes (`reports.robustness.nominal`):
+
+1. which pushes each controller survives, standing and walking (`robustness.headline_survival`);
+2. how fast each walks (Ficht & Behnke Table 1, `tables.speed_table`, from `centrobench speed`);
+3. how each does on the papers' own benchmarks (`paper_benchmarks`: Murooka et al.'s Table IV
+   and Sec. V-G on the motions of Fig. 4 (A)-(C), Sherikov et al.'s reaching Tests 1-2);
+4. what each costs per control period (`cost_table`);
+5. where the two simulators disagree (`tables.agreement_table`).
+"""
+
+from __future__ import annotations
+
+import math
+
+import pandas as pd
+
+from reports.paper_figures import MOTION_LABELS, PAPER_SEC_V_G, PAPER_TABLE_IV_US
+from reports.robustness import nominal
+
+KEYS = ["controller", "sim"]
+REACH_LABELS = {
+    "reach": "Sherikov Test 1: reach",
+    "reach_push": "Sherikov Test 2: reach with pushes",
+}
+"""Sherikov, Dimitrov & Wieber 2014, Sec. VII-B/C, by scenario."""
+
+TABLE_IV_ROWS = (
+    ("centroidal_control", "Table IV total control [µs], median"),
+    ("projection", "Table IV project planned wrench [µs], median"),
+    ("distribution", "Table IV distribute desired wrench [µs], median"),
+)
+SEC_V_G_ROWS = (
+    ("planned_force_N", "Sec. V-G planned projection error, force [N], mean"),
+    ("planned_moment_Nm", "Sec. V-G planned projection error, moment [N m], mean"),
+    ("desired_force_N", "Sec. V-G desired projection error, force [N], mean"),
+    ("desired_moment_Nm", "Sec. V-G desired projection error, moment [N m], mean"),
+)
+BENCHMARK_COLUMNS = [*KEYS, "benchmark", "outcome", "quantity", "ours", "paper"]
+
+
+def outcome(row: pd.Series) -> str:
+    """How an episode ended, in words: completed, fell at t s, or its status (n/a, error,
+    timeout)."""
+    if row["status"] == "ok":
+        return "completed"
+    if row["status"] == "fell":
+        fall = row.get("fall_time")
+        return "fell" if fall is None or pd.isna(fall) else f"fell at {float(fall):.1f} s"
+    return str(row["status"])
+
+
+def paper_benchmarks(episodes: pd.DataFrame) -> pd.DataFrame:
+    """Per controller x simulator x benchmark (the motions (A)-(C), the reaching tests), how
+    its episode ended and, where it ran, our number beside the paper's: Table IV's stage
+    times of the centroidal control [µs] (the paper's are for its own preview control, on an
+    i7-9750H in C++), Sec. V-G's projection errors (for preview control and the linear MPC on
+    (B) and (C)), the final hand error of a reach [cm] (the paper prints none). A controller
+    that cannot run a benchmark has its "n/a" row, without numbers; one that fell has the
+    numbers up to its fall."""
+    rows = nominal(episodes)
+    rows = rows[rows["scenario"].isin([*MOTION_LABELS, *REACH_LABELS]) & rows["push_phase"].isna()]
+    result = []
+    for _, row in rows.sort_values([*KEYS, "scenario"]).iterrows():
+        scenario, planner = row["scenario"], row.get("planner")
+        base = {
+            "controller": row["controller"],
+            "sim": row["sim"],
+            "benchmark": MOTION_LABELS.get(scenario) or REACH_LABELS[scenario],
+            "outcome": outcome(row),
+        }
+        if row["status"] not in ("ok", "fell"):
+            result.append({**base, "quantity": "", "ours": math.nan, "paper": math.nan})
+            continue
+        if scenario in REACH_LABELS:
+            error = row.get("hand_error_final_m")
+            ours = math.nan if error is None or pd.isna(error) else 100.0 * float(error)
+            quantity = "final hand error [cm]"
+            result.append({**base, "quantity": quantity, "ours": ours, "paper": math.nan})
+            continue
+        table_iv = PAPER_TABLE_IV_US[scenario] if planner == "preview_control" else {}
+        for stage, label in TABLE_IV_ROWS:
+            ours = _number(row.get(f"lat_{stage}_median_us"))
+            paper = table_iv.get(stage, math.nan)
+            result.append({**base, "quantity": label, "ours": ours, "paper": paper})
+        sec_v_g = PAPER_SEC_V_G.get((scenario, planner), {})
+        for column, label in SEC_V_G_ROWS:
+            ours = _number(row.get(column))
+            paper = sec_v_g.get(column, math.nan)
+            result.append({**base, "quantity": label, "ours": ours, "paper": paper})
+    return pd.DataFrame(result, columns=BENCHMARK_COLUMNS)
+
+
+def cost_table(episodes: pd.DataFrame) -> pd.DataFrame:
+    """Per controller x simulator, from the nominal walks: the control time per period
+    (estimator, planner, stabilizer, whole-body layer) [µs], median and p99, the simulator
+    engine's own step for the same period (`sim_engine`, median [µs]) and their ratio (the
+    control's cost in engine steps, measured side by side in the same run), and each
+    stage's median [µs]."""
+    rows = nominal(episodes)
+    rows = rows[(rows["scenario"] == "walk") & rows["push_phase"].isna()]
+    columns = {
+        "control median µs": "lat_control_total_median_us",
+        "control p99 µs": "lat_control_total_p99_us",
+        "engine median µs": "lat_sim_engine_median_us",
+        "estimator µs": "lat_estimator_median_us",
+        "planner µs": "lat_planner_median_us",
+        "stabilizer µs": "lat_stabilizer_median_us",
+        "whole-body µs": "lat_whole_body_median_us",
+    }
+    rows = rows.reindex(columns=[*KEYS, *columns.values()])
+    table = rows.groupby(KEYS, sort=True)[list(columns.values())].median()
+    table.columns = list(columns)
+    table.insert(3, "control / engine", table["control median µs"] / table["engine median µs"])
+    return table.reset_index()
+
+
+def _number(value) -> float:
+    return math.nan if value is None or pd.isna(value) else float(value)
