@@ -621,6 +621,18 @@ def build_parser() -> argparse.ArgumentParser:
         default=0.8,
         help="the ladder's top speed [m/s] (default 0.8)",
     )
+    speed.add_argument(
+        "--increment",
+        type=_number("--increment", 0.0, strict=True, maximum=MAX_WALK_SPEED, unit="m/s"),
+        default=0.05,
+        help="the ladder's step, also its first speed [m/s] (default 0.05)",
+    )
+    speed.add_argument(
+        "--resolution",
+        type=_number("--resolution", 0.0, strict=True, maximum=MAX_WALK_SPEED, unit="m/s"),
+        default=0.01,
+        help="the bisection's grid [m/s], at most the increment (default 0.01)",
+    )
 
     report = commands.add_parser("report", help="build report.md and report.html from results")
     report.add_argument(
@@ -1178,7 +1190,16 @@ def _speed(args: argparse.Namespace) -> int:
     for name in controllers:
         controller_spec(name)  # KeyError naming the known ones
     sims = args.sims
-    protocol = SpeedProtocol(maximum=args.maximum, steps=args.steps)
+    try:
+        protocol = SpeedProtocol(
+            start=args.increment,
+            increment=args.increment,
+            maximum=args.maximum,
+            resolution=args.resolution,
+            steps=args.steps,
+        )
+    except ValueError as exc:
+        raise UsageError(f"speed: {exc}") from None
     out = Path(args.out)
     try:
         out.mkdir(parents=True, exist_ok=True)

@@ -94,3 +94,30 @@ def test_a_walk_at_a_commanded_speed_reaches_it(speed):
     assert row["status"] == "ok"
     assert row["e_com"] > 0
     assert row["speed_walked_mps"] == pytest.approx(speed, rel=0.05)
+
+
+def test_a_coarser_protocol_takes_fewer_walks_to_a_coarser_answer():
+    """The main job's protocol (`make bench`: a ladder of 0.1 m/s, bisection to 0.05 m/s)
+    brackets a threshold of 0.37 m/s between 0.35 and 0.4 in 5 walks; the paper's grid
+    (0.05 / 0.01) needs 11 for 0.37 / 0.38."""
+    coarse = _search(0.37, SpeedProtocol(start=0.1, increment=0.1, resolution=0.05))
+    assert (coarse.best, coarse.failed) == (pytest.approx(0.35), pytest.approx(0.4))
+    assert [speed for speed, _ in coarse.tried] == pytest.approx([0.1, 0.2, 0.3, 0.4, 0.35])
+    assert len(_search(0.37, SpeedProtocol()).tried) == 11
+
+
+def test_the_speed_commands_flags_set_the_protocol(monkeypatch, tmp_path):
+    import bench.speed_protocol
+    from bench.cli import main
+
+    seen = []
+
+    def record(controllers, sims, protocol, workers=None):
+        seen.append(protocol)
+        return pd.DataFrame()
+
+    monkeypatch.setattr(bench.speed_protocol, "run_speed_protocol", record)
+    argv = ["speed", "--controllers", "hold+posture", "--out", str(tmp_path)]
+    assert main([*argv, "--increment", "0.1", "--resolution", "0.05"]) == 0
+    assert seen[-1] == SpeedProtocol(start=0.1, increment=0.1, resolution=0.05)
+    assert main([*argv, "--resolution", "0.1"]) == 2  # coarser than the ladder: refused
