@@ -6,7 +6,7 @@ VENV := .venv
 BIN := $(VENV)/bin
 STAMP := $(VENV)/.installed
 
-.PHONY: all bench test test-slow test-all lint format benchmark constraints clean
+.PHONY: all bench bench-full test test-slow test-all lint format benchmark constraints clean
 
 all: test
 
@@ -17,11 +17,25 @@ $(STAMP): pyproject.toml constraints.txt
 	$(BIN)/python -m pip install --quiet -c constraints.txt -e '.[dev]'
 	@touch $@
 
-## bench: the main job: every registered controller x both simulators, standing push survival
-## (5 levels x 20 pushes) and one walk each, on local processes; results and report in results/latest/
+## bench: the main job (bench/specs/main.toml; README "The main job"): every registered
+## controller x both simulators on the papers' protocols at fewer levels, then Table 1's speed
+## search on a coarse grid, on local processes; results and report in results/latest/
 bench: $(STAMP)
 	$(BIN)/centrobench sweep --spec bench/specs/main.toml --out results/latest --overwrite
+	$(BIN)/centrobench speed --controllers all --sims all --increment 0.1 --resolution 0.05 \
+		--out results/latest
 	$(BIN)/centrobench report results/latest --out results/latest
+
+## bench-full: the complete protocols for publication (bench/specs/main_full.toml, and Table 1's
+## search on the paper's grid for every Table 1 row): hours on 2 cores; run it again to resume;
+## results and report in results/full/
+TABLE_1_ROWS := all,direct_centroidal/open_loop,direct_centroidal/straight_leg,$\
+	direct_centroidal/closed_loop,direct_centroidal/leaky,direct_centroidal/extended,$\
+	direct_centroidal/inertia,direct_centroidal/step_timing,direct_centroidal/bent_no_inertia
+bench-full: $(STAMP)
+	$(BIN)/centrobench sweep --spec bench/specs/main_full.toml --out results/full --resume
+	$(BIN)/centrobench speed --controllers $(TABLE_1_ROWS) --sims all --out results/full
+	$(BIN)/centrobench report results/full --out results/full
 
 ## test: the test suite without the long simulations (what CI runs)
 test: $(STAMP)

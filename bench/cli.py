@@ -1186,7 +1186,11 @@ def _speed(args: argparse.Namespace) -> int:
     from bench.speed_protocol import SpeedProtocol, run_speed_protocol
     from reports.tables import speed_table
 
-    controllers = list(CONTROLLERS) if args.controllers == ["all"] else args.controllers
+    controllers = []  # "all" stands for the registered controllers, ablations may follow
+    for name in args.controllers:
+        for controller in CONTROLLERS if name == "all" else [name]:
+            if controller not in controllers:
+                controllers.append(controller)
     for name in controllers:
         controller_spec(name)  # KeyError naming the known ones
     sims = args.sims

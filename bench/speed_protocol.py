@@ -148,7 +148,12 @@ def run_speed_protocol(
             if not batch:
                 break
             if progress:
-                print(f"round {round_number}: {len(batch)} walks", file=sys.stderr, flush=True)
+                print(
+                    f"speed (Ficht & Behnke Table 1), round {round_number}: {len(batch)} walks; "
+                    f"{len(searches) - len(batch)} of {len(searches)} searches done",
+                    file=sys.stderr,
+                    flush=True,
+                )
             for item, result in executor.map_unordered(work, batch, budget=lambda _: budget_s):
                 controller, sim, speed, _ = item
                 if isinstance(result, BaseException):

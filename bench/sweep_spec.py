@@ -4,7 +4,7 @@ variations, read from TOML (or CLI flags) and expanded to episodes.
 A spec (every field but `controllers` and `sims` optional)::
 
     name = "main"
-    controllers = ["preview_control+centroidal_feedback", "hold+posture"]   # or ["all"]
+    controllers = ["preview_control+centroidal_feedback", "hold+posture"]   # or ["all", ...]
     sims = ["mujoco", "pybullet"]                                           # or ["all"]
     scenarios = ["walk"]        # episodes without a push, one per grid point
     speeds = [0.1, 0.2]         # forward speeds [m/s] of walk / walk_push (default: their own)
@@ -601,6 +601,8 @@ def _names(
         )
     if allow_all and value == ["all"]:
         return tuple(valid)
+    if allow_all and "all" in value:  # "all" and more: the registered ones, then the others
+        value = [name for entry in value for name in (valid if entry == "all" else [entry])]
     if label in ("controllers", "sims") and not value:
         raise SpecError(f"sweep spec field {label!r} is empty; valid: {', '.join(valid)}, all")
     for name in value:

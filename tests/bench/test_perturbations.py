@@ -275,12 +275,22 @@ def test_push_replicas_multiply_the_pushes_and_keep_the_ids_of_replica_0():
     assert "replicas" not in spec_from_mapping(base).to_dict()["push"]  # digest as before
 
 
+MAIN_JOB_2026_11_24 = {
+    "name": "main",
+    "controllers": ["all"],
+    "sims": ["all"],
+    "scenarios": ["walk"],
+    "traces": ["walk"],
+    "seeds": [0],
+    "push": {"phases": ["standing"], "dv": [0.2, 0.25, 0.3, 0.35, 0.4], "count": 20, "seed": 0},
+}
+"""The main job's spec until issue 22 (bench/specs/main.toml at bff0d1a)."""
+
+
 def test_the_main_jobs_digest_and_ids_are_those_before_robustness():
     """Recorded at e332790, before the robustness dimensions: a resume of an earlier main job
     runs nothing twice."""
-    from bench.sweep_spec import load_spec
-
-    spec = load_spec(SPECS / "main.toml")
+    spec = spec_from_mapping(MAIN_JOB_2026_11_24)
     episodes = spec.episodes()
     assert spec.digest() == "ffa92370b0e9"
     assert (len(episodes), episodes[5].episode_id) == (1414, "c1877594b2453ab7")

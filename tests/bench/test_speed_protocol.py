@@ -110,10 +110,11 @@ def test_the_speed_commands_flags_set_the_protocol(monkeypatch, tmp_path):
     import bench.speed_protocol
     from bench.cli import main
 
-    seen = []
+    seen, seen_controllers = [], []
 
     def record(controllers, sims, protocol, workers=None):
         seen.append(protocol)
+        seen_controllers.append(list(controllers))
         return pd.DataFrame()
 
     monkeypatch.setattr(bench.speed_protocol, "run_speed_protocol", record)
@@ -121,3 +122,7 @@ def test_the_speed_commands_flags_set_the_protocol(monkeypatch, tmp_path):
     assert main([*argv, "--increment", "0.1", "--resolution", "0.05"]) == 0
     assert seen[-1] == SpeedProtocol(start=0.1, increment=0.1, resolution=0.05)
     assert main([*argv, "--resolution", "0.1"]) == 2  # coarser than the ladder: refused
+    assert main([*argv[:2], "all,direct_centroidal/leaky", *argv[3:]]) == 0
+    from bench.controllers import CONTROLLERS
+
+    assert seen_controllers[-1] == [*CONTROLLERS, "direct_centroidal/leaky"]

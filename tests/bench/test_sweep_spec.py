@@ -214,20 +214,12 @@ def test_walking_push_is_mid_single_support():
     assert [e.labels()["push_time_s"] for e in spec.episodes()] == [start, start]
 
 
-def test_main_spec_file_is_valid():
-    spec = load_spec(Path(__file__).parents[2] / "bench" / "specs" / "main.toml")
-    assert set(spec.controllers) == set(CONTROLLERS)
-    assert spec.push is not None
-    assert len(spec.push.dv) == 5
-    assert spec.push.count == 20
-    assert len(spec.episodes()) == len(CONTROLLERS) * 2 * (1 + 5 * 20)
-
-
-def test_jvrc1_spec_file_is_the_main_protocol_on_jvrc1():
+def test_jvrc1_spec_file_is_the_full_standing_protocol_on_jvrc1():
     root = Path(__file__).parents[2] / "bench" / "specs"
-    main_spec, spec = load_spec(root / "main.toml"), load_spec(root / "jvrc1.toml")
+    full, spec = load_spec(root / "main_full.toml"), load_spec(root / "jvrc1.toml")
+    (standing,) = [p for p in full.protocols if p.name == "jvrc1_standing_pushes"]
     assert spec.robots == ("jvrc1",)
-    assert spec.push == main_spec.push
+    assert spec.push == standing.push
     assert set(spec.controllers) == set(CONTROLLERS)
     assert len(spec.episodes()) == len(CONTROLLERS) * 2 * (3 + 5 * 20)
     assert {e.run.robot for e in spec.episodes()} == {"jvrc1"}
