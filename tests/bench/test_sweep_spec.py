@@ -436,3 +436,49 @@ def test_bad_jobs_are_refused_with_one_line(change, message):
         spec_from_mapping({**JOB, **change})
     assert message in str(error.value)
     assert "\n" not in str(error.value)
+
+
+def test_the_main_job_is_every_controller_on_each_protocol_it_can_run():
+    """bench/specs/main.toml for the registry: every registered controller x both simulators
+    on every protocol, with "n/a" rows exactly where a controller cannot run the scenario
+    (Murooka's motions need multi-contact), 20 pushes per level in the same directions for
+    every controller, and Sherikov et al.'s hierarchy on their reaching tests."""
+    from bench.controllers import controller_spec, refusal
+
+    spec = load_spec(Path(__file__).parents[2] / "bench" / "specs" / "main.toml")
+    names = [p.name for p in spec.protocols]
+    assert names == ["walks", "standing_pushes", "walking_pushes", "motions", "reaching"]
+    episodes = spec.episodes()
+    registered, sims = set(CONTROLLERS), {"mujoco", "pybullet"}
+    by = {name: [e for e in episodes if e.protocol == name] for name in names}
+    expected = {  # protocol -> (controllers, scenarios or pushes per controller and simulator)
+        "walks": (registered, 1),
+        "standing_pushes": (registered, 20),
+        "walking_pushes": (registered, 20),
+        "motions": (registered, 3),
+        "reaching": (registered | {"capturability_hierarchy"}, 2),
+    }
+    for name, (controllers, per_pair) in expected.items():
+        rows = by[name]
+        assert {(e.controller, e.run.sim) for e in rows} == {
+            (c, s) for c in controllers for s in sims
+        }
+        assert len(rows) == len(controllers) * 2 * per_pair, name
+        for e in rows:  # n/a exactly where the registry says the controller cannot
+            assert (e.refused is None) == (
+                refusal(controller_spec(e.controller), e.run.scenario) is None
+            )
+    multi_contact = {c for c in registered if "multi_contact" in controller_spec(c).can}
+    assert {e.controller for e in by["motions"] if e.refused is None} == multi_contact
+    assert len(multi_contact) == 3  # Murooka's pair, its feed-forward variant, the MPC
+    assert all(e.refused is None for name in names if name != "motions" for e in by[name])
+    for name, phase in (("standing_pushes", "standing"), ("walking_pushes", "walking")):
+        pushes = by[name]
+        assert {e.push_phase for e in pushes} == {phase}
+        directions = {}
+        for e in pushes:
+            directions.setdefault((e.controller, e.run.sim), []).append(
+                (e.push_dv_mps, e.run.push_direction_deg)
+            )
+        assert len({tuple(sorted(v)) for v in directions.values()}) == 1  # the same for everyone
+    assert len(episodes) == len({e.episode_id for e in episodes})

@@ -156,17 +156,88 @@ def test_cost_is_the_control_time_in_engine_steps_of_the_same_run(episodes):
         assert table.loc[key, "control / engine"] == pytest.approx(control / engine)
 
 
-def test_the_report_opens_with_the_headline_tables(episodes, tmp_path: Path):
+def _push(controller, sim, phase, index, alive) -> dict:
+    row = _row(
+        controller=controller,
+        sim=sim,
+        scenario="stand_push" if phase == "standing" else "walk_push",
+        push_phase=phase,
+        push_dv_mps=0.3,
+        push_index=index,
+        push_impulse_Ns=17.5,
+        status="ok" if alive else "fell",
+        fell=not alive,
+        survived=alive,
+    )
+    row["episode_id"] += f"-{index}"
+    return row
+
+
+def test_the_report_of_a_main_job_opens_with_every_headline_table(tmp_path: Path):
+    """A small main job (two controllers, both simulators: walks, standing and walking
+    pushes, motions, a reach, the speed search): the report opens with the five headline
+    tables, in order, each with its rows."""
+    rows = [*ROWS[:4]]
+    for controller in ("a+x", "b+y"):
+        for sim in ("mujoco", "pybullet"):
+            rows.append(_walk(controller, sim, 300.0, 40.0))
+            for phase in ("standing", "walking"):
+                rows += [_push(controller, sim, phase, k, k < 3) for k in range(4)]
     store = ResultStore(tmp_path / "results")
     store.prepare({"name": "fixture"}, "digest", resume=False, overwrite=False)
-    for row in fixture_rows():
+    for row in rows:
         store.write(row, None)
+    speed = [
+        {"controller": c, "sim": s, "speed_command_mps": 0.1, "status": "ok", "e_com": 0.1}
+        for c in ("a+x", "b+y")
+        for s in ("mujoco", "pybullet")
+    ]
+    pd.DataFrame(speed).to_parquet(tmp_path / "results" / "speed.parquet")
     build_report(tmp_path / "results", tmp_path / "report")
     markdown = (tmp_path / "report" / "report.md").read_text()
-    titles = [line[3:] for line in markdown.splitlines() if line.startswith("## ")]
-    assert titles[:3] == [
+    sections = markdown.split("\n## ")[1:]
+    titles = [section.splitlines()[0] for section in sections]
+    assert titles[:5] == [
+        "1. Which pushes each controller survives",
+        "2. How fast each controller walks (Ficht & Behnke Table 1)",
         "3. The papers' own benchmarks",
         "4. What each controller costs per control period",
         "5. Where MuJoCo and PyBullet disagree",
-    ]  # no pushes, no speed walks in the fixture: questions 1 and 2 have nothing to show
-    assert "| 186 " in markdown.split("## 4.")[0]
+    ]
+
+    def table_rows(section: str) -> list[list[str]]:
+        lines = [line for line in section.splitlines() if line.startswith("|")][2:]
+        return [[cell.strip() for cell in line.split("|")[1:-1]] for line in lines]
+
+    survival, speeds, benchmarks, cost, agreement = (table_rows(s) for s in sections[:5])
+    # 1: per controller and push phase, 3 of 4 in each simulator with its interval
+    assert sorted((r[0], r[1]) for r in survival) == [
+        ("a+x", "standing"),
+        ("a+x", "walking"),
+        ("b+y", "standing"),
+        ("b+y", "walking"),
+    ]
+    assert all(r[2].startswith("3/4 (") and r[3].startswith("3/4 (") for r in survival)
+    # 2: one row per controller and simulator
+    assert sorted((r[0], r[1]) for r in speeds) == [
+        ("a+x", "mujoco"),
+        ("a+x", "pybullet"),
+        ("b+y", "mujoco"),
+        ("b+y", "pybullet"),
+    ]
+    # 3: the motions and the reach, with the paper's 186 µs beside ours for (B)
+    assert {r[2] for r in benchmarks} == {
+        "(B) handrail stairs",
+        "(C) ladder",
+        "Sherikov Test 1: reach",
+    }
+    assert any(r[2] == "(B) handrail stairs" and r[6] == "186" for r in benchmarks)
+    # 4: one row per controller and simulator with a walk, the ratio to the engine
+    assert sorted((r[0], r[1], r[5]) for r in cost) == [
+        ("a+x", "mujoco", "7.5"),
+        ("a+x", "pybullet", "7.5"),
+        ("b+y", "mujoco", "7.5"),
+        ("b+y", "pybullet", "7.5"),
+    ]
+    # 5: the push survival in both simulators with its band, per controller
+    assert ["a+x", "standing push survival", "%", "75", "75", "75 to 75", "0"] in agreement
