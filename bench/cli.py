@@ -1122,7 +1122,11 @@ def _sweep(args: argparse.Namespace) -> int:
     out = args.out or f"results/{spec.name}"
 
     def announce(total: int, todo: int, notes: list[str]) -> None:
-        left = "" if todo == total else f" ({total - todo} done, {todo} to run)"
+        refused = sum(episode.refused is not None for episode in spec.episodes())
+        done = total - todo - refused  # the n/a rows are written, never run
+        parts = [f"{refused} n/a"] if refused else []
+        parts += [f"{done} done", f"{todo} to run"] if done else []
+        left = f" ({', '.join(parts)})" if parts else ""
         print(
             f"sweep {spec.name!r}: {total} episodes{left} -> {out} ({args.executor})",
             file=sys.stderr,

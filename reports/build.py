@@ -298,8 +298,9 @@ def _headline_sections(
                 "(the paper's: its preview control in C++ on an i7-9750H, without the "
                 "whole-body IK) and Sec. V-G's mean projection errors (its preview control and "
                 "linear MPC on (B) and (C)); Sherikov et al.'s reaching tests with the final "
-                "hand error. outcome: how the episode ended (numbers up to a fall; n/a: the "
-                "controller cannot run it).",
+                "hand error. outcome: how the episode ended (a reach passed when its hand ended "
+                f"within {100 * tables.REACH_PASS_HAND_ERROR_M:g} cm of the target; numbers up "
+                "to a fall; n/a: the controller cannot run it).",
                 benchmarks,
             )
         )

@@ -447,7 +447,7 @@ def test_the_main_job_is_every_controller_on_each_protocol_it_can_run():
 
     spec = load_spec(Path(__file__).parents[2] / "bench" / "specs" / "main.toml")
     names = [p.name for p in spec.protocols]
-    assert names == ["walks", "standing_pushes", "walking_pushes", "motions", "reaching"]
+    assert names == ["walks", "motions", "reaching", "walking_pushes", "standing_pushes"]
     episodes = spec.episodes()
     registered, sims = set(CONTROLLERS), {"mujoco", "pybullet"}
     by = {name: [e for e in episodes if e.protocol == name] for name in names}
