@@ -1124,9 +1124,8 @@ def _sweep(args: argparse.Namespace) -> int:
     def announce(total: int, todo: int, notes: list[str]) -> None:
         refused = sum(episode.refused is not None for episode in spec.episodes())
         done = total - todo - refused  # the n/a rows are written, never run
-        parts = [f"{refused} n/a"] if refused else []
-        parts += [f"{done} done", f"{todo} to run"] if done else []
-        left = f" ({', '.join(parts)})" if parts else ""
+        parts = ([f"{refused} n/a"] if refused else []) + ([f"{done} done"] if done else [])
+        left = f" ({', '.join([*parts, f'{todo} to run'])})" if parts else ""
         print(
             f"sweep {spec.name!r}: {total} episodes{left} -> {out} ({args.executor})",
             file=sys.stderr,

@@ -445,3 +445,16 @@ def test_a_jobs_flags_apply_to_every_protocol_or_are_refused(monkeypatch, tmp_pa
     line = refused(["sweep", "--spec", "job.toml", "--push-dv", "0.2"], capsys)
     assert "--push-dv: the spec job.toml is a job of protocols; set it in its [[protocols]]" in line
     assert not seen[1:]
+
+
+def test_the_sweeps_first_line_counts_n_a_rows_apart_from_episodes_done(tmp_path, capsys):
+    """One episode to run and one the controller cannot run (n/a: written, never run); on a
+    resume the episode is done."""
+    argv = ["sweep", "--controllers", "hold+posture", "--sims", "mujoco", "--no-progress"]
+    argv += ["--scenarios", "stand,ladder", "--duration", "0.1", "--out", str(tmp_path / "r")]
+    assert main(argv) == 0
+    first = capsys.readouterr().err.splitlines()[0]
+    assert first.startswith("sweep 'sweep': 2 episodes (1 n/a, 1 to run) -> ")
+    assert main([*argv, "--resume"]) == 0
+    first = capsys.readouterr().err.splitlines()[0]
+    assert first.startswith("sweep 'sweep': 2 episodes (1 n/a, 1 done, 0 to run) -> ")
