@@ -21,14 +21,16 @@ $(STAMP): pyproject.toml constraints.txt
 ## controller x both simulators on the papers' protocols at fewer levels, then Table 1's speed
 ## search on a coarse grid, on local processes; results and report in results/latest/
 bench: $(STAMP)
+	rm -f results/latest/speed.parquet results/latest/speed.md
 	$(BIN)/centrobench sweep --spec bench/specs/main.toml --out results/latest --overwrite
 	$(BIN)/centrobench speed --controllers all --sims all --increment 0.1 --resolution 0.05 \
 		--out results/latest
 	$(BIN)/centrobench report results/latest --out results/latest
 
-## bench-full: the complete protocols for publication (bench/specs/main_full.toml, and Table 1's
-## search on the paper's grid for every Table 1 row): hours on 2 cores; run it again to resume;
-## results and report in results/full/
+## bench-full: the complete protocols for publication (bench/specs/main_full.toml, then Table 1's
+## search on the issue's grid, 0.05 / 0.01 m/s, for Table 1's rows, the direct_centroidal
+## ablations, and every other controller): hours on 2 cores; run it again to resume the sweep
+## (the speed search runs again whole); results and report in results/full/
 TABLE_1_ROWS := all,direct_centroidal/open_loop,direct_centroidal/straight_leg,$\
 	direct_centroidal/closed_loop,direct_centroidal/leaky,direct_centroidal/extended,$\
 	direct_centroidal/inertia,direct_centroidal/step_timing,direct_centroidal/bent_no_inertia

@@ -90,7 +90,7 @@ from bench.robustness import parse_robustness, robustness_to_dict
 from bench.runner import EpisodeSpec
 from bench.scenarios import SCENARIOS, WALKS_WITH_SPEED
 from estimators.base import DEFAULT_ESTIMATOR, ESTIMATORS
-from robots.perturbation import Perturbation
+from robots.perturbation import LATER_PERTURBATION_FIELDS, NOMINAL, Perturbation
 from robots.robot_registry import DEFAULT_ROBOT, ROBOTS
 from sims.base import SIMULATORS
 from wholebody.base import DEFAULT_WHOLE_BODY
@@ -176,10 +176,7 @@ class SweepSpec:
         data.pop("extra")
         data.pop("protocols")
         if self.protocols:  # each protocol's fields whole (they win over the job's on reading)
-            data["protocols"] = [
-                {k: v for k, v in protocol.to_dict().items() if k not in EXECUTION_FIELDS}
-                for protocol in self.protocols
-            ]
+            data["protocols"] = [_protocol_table(protocol) for protocol in self.protocols]
         if self.push is not None:  # the protocol's later fields at their defaults: as before
             for name, default in (
                 ("replicas", 1),
@@ -289,6 +286,17 @@ class SweepSpec:
         return result
 
 
+def _protocol_table(protocol: SweepSpec) -> dict[str, Any]:
+    """A job's protocol as a table that reads back to it: every field it has, also those that
+    `to_dict` leaves out at their defaults (robots, speeds, robustness), which the job's
+    top-level fields would otherwise fill in; not the timeouts, which are the job's."""
+    table = {k: v for k, v in protocol.to_dict().items() if k not in EXECUTION_FIELDS}
+    table.setdefault("robots", list(protocol.robots))
+    table.setdefault("speeds", list(protocol.speeds))
+    table.setdefault("robustness", robustness_to_dict(protocol.perturbations))
+    return table
+
+
 # EpisodeSpec fields added after results were first published, with their defaults: left out
 # of an episode's id while at the default, so that earlier result directories keep their ids
 # (a resume of them runs nothing twice)
@@ -306,6 +314,12 @@ LATER_FIELDS = {
 
 def _episode(controller: str, run: EpisodeSpec, keep_trace: bool, **labels) -> Episode:
     fields = {k: v for k, v in asdict(run).items() if k not in LATER_FIELDS or v != LATER_FIELDS[k]}
+    if run.perturbation is not None:  # its later fields too, while at their defaults
+        fields["perturbation"] = {
+            k: v
+            for k, v in fields["perturbation"].items()
+            if k not in LATER_PERTURBATION_FIELDS or v != getattr(NOMINAL, k)
+        }
     key = json.dumps({"controller": controller, **fields, **labels}, sort_keys=True)
     episode_id = hashlib.sha1(key.encode()).hexdigest()[:16]
     refused = _refusal(controller, run.scenario)
@@ -542,7 +556,7 @@ def _sweep_from_mapping(data: dict[str, Any], episodes_required: bool = True) ->
     )
     if len(set(speeds)) != len(speeds):
         raise SpecError(f"sweep spec field 'speeds' names a speed twice: {list(speeds)}")
-    if speeds and not set(scenarios) & set(WALKS_WITH_SPEED):
+    if speeds and not set(scenarios) & set(WALKS_WITH_SPEED) and episodes_required:
         raise SpecError(
             "sweep spec field 'speeds' applies to the scenarios "
             f"{', '.join(WALKS_WITH_SPEED)}, and 'scenarios' has none of them"

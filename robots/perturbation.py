@@ -154,6 +154,9 @@ class Perturbation:
 
 NOMINAL = Perturbation()
 PERTURBATION_FIELDS = tuple(f.name for f in fields(Perturbation))
+LATER_PERTURBATION_FIELDS = tuple(f"noise_{channel}" for channel in NOISE_CHANNELS)
+"""Fields added after perturbed episodes were first recorded: left out of an episode's id while
+at their default (`bench.sweep_spec`), so that earlier result directories keep their ids."""
 
 
 def torso_link(robot: RobotDescription) -> str:

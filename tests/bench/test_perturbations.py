@@ -439,3 +439,27 @@ def test_robustness_spec_file_varies_each_dimension_alone():
         "slope_deg=4",
     ]
     assert len(spec.episodes()) == 3 * 2 * len(labels) * (1 + 10)
+
+
+def test_perturbed_episodes_keep_the_ids_they_had_before_the_si_noise_channels():
+    """Recorded at 2ae8308, before the per-channel noise fields: a resume or a replay of an
+    earlier robustness sweep finds its perturbed episodes (the digest alone cannot tell)."""
+    from bench.sweep_spec import load_spec
+
+    spec = load_spec(SPECS / "robustness.toml")
+    episodes = spec.episodes()
+    assert spec.digest() == "e0a00b445f29"
+    assert (episodes[11].run.perturbation.label(), episodes[11].episode_id) == (
+        "noise=1",
+        "ba053a0d276fec5f",
+    )
+    # a channel in SI units is part of the id
+    gyro = spec_from_mapping(
+        {
+            "controllers": ["hold+posture"],
+            "sims": ["mujoco"],
+            "scenarios": ["stand"],
+            "robustness": {"nominal": False, "noise_gyro_rad_s": [0.01, 0.02]},
+        }
+    ).episodes()
+    assert len({e.episode_id for e in gyro}) == 2

@@ -401,6 +401,29 @@ def test_a_job_is_its_protocols_episodes_in_order_each_once():
     assert again == job
     assert again.digest() == job.digest()
     assert [e.episode_id for e in again.episodes()] == ids
+    # ... also where a protocol sets back to their defaults fields the job sets otherwise
+    reset = {
+        "controllers": ["hold+posture"],
+        "sims": ["mujoco"],
+        "robots": ["jvrc1"],
+        "speeds": [0.1, 0.2],
+        "robustness": {"noise": [1]},
+        "protocols": [
+            {"name": "walks", "scenarios": ["walk"]},
+            {
+                "name": "stands",
+                "scenarios": ["stand"],
+                "robots": ["centrobench_humanoid"],
+                "speeds": [],
+                "robustness": {"nominal": True},
+            },
+        ],
+    }
+    reset_job = spec_from_mapping(reset)
+    again = spec_from_mapping(json.loads(json.dumps(reset_job.to_dict())))
+    assert again == reset_job
+    assert again.digest() == reset_job.digest()
+    assert len(again.episodes()) == 2 * 2 + 1  # 2 speeds x (nominal, noise) walks, 1 stand
     # a protocol's episodes keep the ids they have in a sweep of their own
     alone = {e.episode_id for e in spec_from_mapping({**top, **JOB["protocols"][2]}).episodes()}
     assert alone <= set(ids)

@@ -14,6 +14,7 @@ import pytest
 from bench.dataset import ROW_SCHEMA, ResultStore
 from reports import headlines
 from reports.build import build_report
+from reports.statistics import fraction_cell
 
 
 def _row(**values) -> dict:
@@ -186,7 +187,8 @@ def test_the_report_of_a_main_job_opens_with_every_headline_table(tmp_path: Path
         for sim in ("mujoco", "pybullet"):
             rows.append(_walk(controller, sim, 300.0, 40.0))
             for phase in ("standing", "walking"):
-                rows += [_push(controller, sim, phase, k, k < 3) for k in range(4)]
+                survived = 1 if (controller, sim, phase) == ("b+y", "pybullet", "standing") else 3
+                rows += [_push(controller, sim, phase, k, k < survived) for k in range(4)]
     store = ResultStore(tmp_path / "results")
     store.prepare({"name": "fixture"}, "digest", resume=False, overwrite=False)
     for row in rows:
@@ -221,7 +223,9 @@ def test_the_report_of_a_main_job_opens_with_every_headline_table(tmp_path: Path
         ("b+y", "standing"),
         ("b+y", "walking"),
     ]
-    assert all(r[2].startswith("3/4 (") and r[3].startswith("3/4 (") for r in survival)
+    cells = {(r[0], r[1]): (r[2], r[3], r[4]) for r in survival}
+    assert cells[("a+x", "standing")][:2] == (fraction_cell(3, 4), fraction_cell(3, 4))
+    assert cells[("b+y", "standing")] == (fraction_cell(3, 4), fraction_cell(1, 4), "25-75")
     # 2: one row per controller and simulator
     assert sorted((r[0], r[1]) for r in speeds) == [
         ("a+x", "mujoco"),
@@ -243,5 +247,6 @@ def test_the_report_of_a_main_job_opens_with_every_headline_table(tmp_path: Path
         ("b+y", "mujoco", "7.5"),
         ("b+y", "pybullet", "7.5"),
     ]
-    # 5: the push survival in both simulators with its band, per controller
+    # 5: the push survival in both simulators with its band and MuJoCo minus PyBullet
     assert ["a+x", "standing push survival", "%", "75", "75", "75 to 75", "0"] in agreement
+    assert ["b+y", "standing push survival", "%", "75", "25", "25 to 75", "50"] in agreement
