@@ -4,31 +4,21 @@ n/a rows for the controllers that cannot run one; the cost table's ratio to the 
 
 from __future__ import annotations
 
-import json
 import math
 from pathlib import Path
 
 import pandas as pd
 import pytest
 
-from bench.dataset import ROW_SCHEMA, ResultStore
+from bench.dataset import ResultStore
 from reports import headlines
 from reports.build import build_report
 from reports.statistics import fraction_cell
+from tests.reports.rows import result_row
 
 
 def _row(**values) -> dict:
-    row = {name: None for name in ROW_SCHEMA.names}
-    row.update(
-        versions_json=json.dumps({"mujoco": "4.0.0"}),
-        git_commit="abc123",
-        cpu="test CPU",
-        seed=0,
-        scale=1.0,
-        mass_kg=58.0,
-        perturbation="nominal",
-        replica=0,
-    )
+    row = result_row(mass_kg=58.0)
     row.update(values)
     row["episode_id"] = f"{row['controller']}-{row['sim']}-{row['scenario']}"
     return row

@@ -12,10 +12,11 @@ import pandas as pd
 import pytest
 from scipy import stats
 
-from bench.dataset import ROW_SCHEMA, ResultStore
+from bench.dataset import ResultStore
 from reports import robustness, tables
 from reports.build import build_report
 from reports.statistics import fraction_cell
+from tests.reports.rows import result_row
 
 LEVELS = (0.2, 0.3, 0.4)
 # replicas survived out of 5, per controller and level, for push 0 (push 1: all survive)
@@ -25,20 +26,7 @@ NOISE = {"a+x": (10, 6, 2), "b+y": (10, 9, 8)}
 
 
 def _row(**values) -> dict:
-    row = {name: None for name in ROW_SCHEMA.names}
-    row.update(
-        versions_json=json.dumps({"mujoco": "4.0.0"}),
-        git_commit="abc123",
-        cpu="test CPU",
-        seed=0,
-        scale=1.0,
-        mass_kg=50.0,
-        status="ok",
-        fell=False,
-        perturbation="nominal",
-        replica=0,
-        com_error_rms_m=0.004,
-    )
+    row = result_row(mass_kg=50.0, status="ok", fell=False, com_error_rms_m=0.004)
     row.update(values)
     row["episode_id"] = "e" + str(abs(hash(json.dumps(values, sort_keys=True, default=str))))
     return row
