@@ -149,23 +149,7 @@ def degradation_table(episodes: pd.DataFrame) -> pd.DataFrame:
     return result
 
 
-NOMINAL_MAGNITUDE = {
-    "noise": 0.0,
-    "noise_encoders": 0.0,
-    "noise_imu": 0.0,
-    "noise_ft": 0.0,
-    "noise_bias": 0.0,
-    "delay": 0.0,
-    "command_delay": 0.0,
-    "sensor_delay": 0.0,
-    "payload_kg": 0.0,
-    "com_offset_m": 0.0,
-    "mass_error": 0.0,
-    "torque_scale": 1.0,
-    "gain_scale": 1.0,
-    "ground_height_m": 0.0,
-    "slope_deg": 0.0,
-}
+NOMINAL_MAGNITUDE = {"torque_scale": 1.0, "gain_scale": 1.0}
 """Each dimension's nominal magnitude (`robots.perturbation.Perturbation`'s defaults) where
 it is not 0."""
 

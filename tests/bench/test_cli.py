@@ -367,7 +367,10 @@ def test_list_shows_every_registry_and_marks_the_defaults():
         assert [line.split()[0] for line in lines if line.endswith("(default)")] == [default]
 
 
-def test_robustness_flags_make_the_specs_table(monkeypatch, tmp_path):
+@pytest.fixture
+def recorded_sweeps(monkeypatch, tmp_path) -> list:
+    """The specs `centrobench sweep` would run (run_sweep records its spec and raises
+    `Ran`), in an empty working directory."""
     import bench.sweep
 
     seen = []
@@ -378,6 +381,11 @@ def test_robustness_flags_make_the_specs_table(monkeypatch, tmp_path):
 
     monkeypatch.setattr(bench.sweep, "run_sweep", record)
     monkeypatch.chdir(tmp_path)
+    return seen
+
+
+def test_robustness_flags_make_the_specs_table(recorded_sweeps):
+    seen = recorded_sweeps
     argv = [*SWEEP, "--noise", "1,imu=4,gyro_rad_s=0.01", "--noise-force-n", "0.5"]
     argv += ["--delay", "2", "--payload-kg", "5"]
     argv += ["--push-dv", "0.2", "--push-count", "2", "--push-replicas", "5"]
@@ -422,19 +430,10 @@ scenarios = ["walk"]
 """
 
 
-def test_a_jobs_flags_apply_to_every_protocol_or_are_refused(monkeypatch, tmp_path, capsys):
+def test_a_jobs_flags_apply_to_every_protocol_or_are_refused(recorded_sweeps, tmp_path, capsys):
     """--controllers, --sims and --seeds replace those of every protocol of a job; a flag
     that would mean something different in each protocol (--push-dv) is refused."""
-    import bench.sweep
-
-    seen = []
-
-    def record(spec, *args, **kwargs):
-        seen.append(spec)
-        raise Ran("recorded")
-
-    monkeypatch.setattr(bench.sweep, "run_sweep", record)
-    monkeypatch.chdir(tmp_path)
+    seen = recorded_sweeps
     (tmp_path / "job.toml").write_text(JOB_TOML)
     with pytest.raises(Ran):
         main(["sweep", "--spec", "job.toml", "--controllers", "hold+posture", "--seeds", "3"])
