@@ -495,7 +495,7 @@ def run_episode(
         )
         summary["com_error_rms_m"] = float(np.sqrt(np.mean(np.sum(error**2, axis=1))))
     if len(frame):
-        summary["projection_error"] = _projection_error(frame)
+        summary["projection_error"] = _projection_error(frame, planner.projects_wrench)
         summary["zmp_margin_min_m"] = float(frame["zmp_margin_m"].min())
     if "solver_iterations" in frame and len(frame):
         iterations = frame["solver_iterations"].to_numpy()
@@ -595,9 +595,11 @@ class _SupportPolygon:
         return margin_inside(self.halfplanes, plan.zmp_planned_world[:2])
 
 
-def _projection_error(frame: pd.DataFrame) -> dict[str, float | None]:
-    """Murooka Sec. V-G: means of ||f-bar^p - f-bar^p'||, ||n-bar^p - n-bar^p'|| (planned) and
-    of the same for the desired wrench (None when the stabilizer distributes no wrench)."""
+def _projection_error(frame: pd.DataFrame, projects: bool) -> dict[str, float | None]:
+    """Murooka Sec. V-G: means of ||f-bar^p - f-bar^p'||, ||n-bar^p - n-bar^p'|| (planned; None
+    when the planner does not project, `projects` False: its "projected" wrench is the planned
+    one, and a zero error would claim a projection that never happened) and of the same for the
+    desired wrench (None when the stabilizer distributes no wrench)."""
 
     def mean_norm(a: str, b: str, axes) -> float | None:
         columns_a = [f"{a}_{x}" for x in axes]
@@ -611,8 +613,12 @@ def _projection_error(frame: pd.DataFrame) -> dict[str, float | None]:
 
     force, moment = AXES[:3], AXES[3:]
     return {
-        "planned_force_N": mean_norm("wrench_planned", "wrench_projected", force),
-        "planned_moment_Nm": mean_norm("wrench_planned", "wrench_projected", moment),
+        "planned_force_N": mean_norm("wrench_planned", "wrench_projected", force)
+        if projects
+        else None,
+        "planned_moment_Nm": mean_norm("wrench_planned", "wrench_projected", moment)
+        if projects
+        else None,
         "desired_force_N": mean_norm("wrench_desired", "wrench_distributed", force),
         "desired_moment_Nm": mean_norm("wrench_desired", "wrench_distributed", moment),
     }

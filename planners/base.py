@@ -12,6 +12,10 @@ from robots.types import CentroidalPlan, RobotState
 
 class Planner(Protocol):
     name: str
+    projects_wrench: bool
+    """Whether the plan's wrench_projected_world is a projection of its wrench_planned_world
+    onto the contacts' wrench cones (Murooka eqs. 9-10); otherwise the two are the same wrench
+    and the runner records no planned projection error (Sec. V-G) for the episode."""
 
     def reset(self, robot: RobotModel, scenario: Scenario, state: RobotState) -> None: ...
     def plan(self, t: float, state: RobotState) -> CentroidalPlan: ...

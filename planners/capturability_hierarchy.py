@@ -191,6 +191,7 @@ class _Rows:
 
 class CapturabilityHierarchyPlanner:
     name = "capturability_hierarchy"
+    projects_wrench = False
 
     def __init__(self, dt: float) -> None:
         self.dt = dt

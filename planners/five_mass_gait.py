@@ -79,6 +79,7 @@ class _Foothold:
 
 class FiveMassGaitPlanner:
     name = "five_mass_gait"
+    projects_wrench = False
 
     def __init__(self, dt: float, options: SteppingOptions | None = None) -> None:
         self.dt = dt

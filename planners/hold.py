@@ -24,6 +24,7 @@ from robots.types import CentroidalPlan, RobotState
 
 class HoldPlanner:
     name = "hold"
+    projects_wrench = False
 
     def __init__(self, dt: float) -> None:
         self.dt = dt

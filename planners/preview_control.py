@@ -64,6 +64,7 @@ TABLE_I = {
 
 class PreviewControlPlanner:
     name = "preview_control"
+    projects_wrench = True
 
     def __init__(
         self,

@@ -48,6 +48,7 @@ KAJITA = {"q": 1.0, "r": 1e-6, "dtau": 0.005, "horizon": 400}
 
 class PreviewZmpPlanner:
     name = "preview_zmp"
+    projects_wrench = True
 
     def __init__(self, dt: float, projection_backend: str = DEFAULT_BACKEND) -> None:
         self.dt = dt

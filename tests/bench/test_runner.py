@@ -111,6 +111,20 @@ def test_hold_posture_stands_ten_seconds(standing, sim):
 
 
 @pytest.mark.parametrize("sim", SIMS)
+def test_a_planner_that_does_not_project_records_no_projection_error(standing, sim):
+    """`hold` publishes its planned wrench as the "projected" one (no eqs. 9-10): the summary
+    has no planned projection error for it (None, not a vacuous 0), while preview control's
+    walks have one (tests/planners/test_preview_control.py)."""
+    trace = standing[sim].trace
+    planned = trace[[f"wrench_planned_{a}" for a in ("fx", "fy", "fz", "mx", "my", "mz")]]
+    projected = trace[[f"wrench_projected_{a}" for a in ("fx", "fy", "fz", "mx", "my", "mz")]]
+    np.testing.assert_array_equal(planned.to_numpy(), projected.to_numpy())
+    errors = standing[sim].summary["projection_error"]
+    assert errors["planned_force_N"] is None
+    assert errors["planned_moment_Nm"] is None
+
+
+@pytest.mark.parametrize("sim", SIMS)
 def test_summary_contract(standing, sim):
     summary = summary_json_ready(standing[sim].summary)
     assert set(summary) >= CONTRACT
