@@ -98,7 +98,7 @@ def stand_push(
 ) -> Scenario:
     impulse = _horizontal_impulse(push_impulse, push_direction_deg)
     base = stand(model, duration)
-    push = PushEvent(push_time, model.robot.base_link, impulse, push_duration)
+    push = PushEvent(push_time, model.robot.torso_link, impulse, push_duration)
     return Scenario("stand_push", duration, base.scene, base.phases, base.initial_posture, (push,))
 
 
@@ -164,7 +164,7 @@ def reach_push(model: RobotModel, duration: float = REACH_DURATION, **_: object)
     pushes = tuple(
         PushEvent(
             time,
-            model.robot.base_link,
+            model.robot.torso_link,
             _horizontal_impulse(impulse, direction),
             REACH_PUSH_DURATION,
         )
@@ -330,7 +330,7 @@ def walk_push(
     if push_direction_name is not None:
         push_direction_deg = support_direction_deg(phase.contacts[0], push_direction_name)
     impulse = _horizontal_impulse(push_impulse, push_direction_deg)
-    push = PushEvent(centre - push_duration / 2, model.robot.base_link, impulse, push_duration)
+    push = PushEvent(centre - push_duration / 2, model.robot.torso_link, impulse, push_duration)
     return Scenario(
         "walk_push",
         base.duration,

@@ -159,25 +159,6 @@ LATER_PERTURBATION_FIELDS = tuple(f"noise_{channel}" for channel in NOISE_CHANNE
 at their default (`bench.sweep_spec`), so that earlier result directories keep their ids."""
 
 
-def torso_link(robot: RobotDescription) -> str:
-    """The link the arms branch from (the humanoid's base, JVRC-1's chest): the deepest link
-    on the chains from the base to both hands."""
-    parent_of = {joint.child: joint.parent for joint in robot.joints}
-
-    def chain(link: str) -> list[str]:
-        links = [link]
-        while links[-1] in parent_of:
-            links.append(parent_of[links[-1]])
-        return links[::-1]  # base first
-
-    hands = [limb.link for limb in robot.limbs if limb.name.endswith("hand")]
-    if len(hands) < 2:
-        return robot.base_link
-    left, right = chain(hands[0]), chain(hands[1])
-    common = [a for a, b in zip(left, right, strict=False) if a == b]
-    return common[-1]
-
-
 def simulated_robot(
     robot: RobotDescription, perturbation: Perturbation, seed: int
 ) -> RobotDescription:
@@ -196,7 +177,7 @@ def simulated_robot(
             for link, f in zip(links, factors, strict=True)
         ]
     index = {link.name: k for k, link in enumerate(links)}
-    torso = torso_link(robot)
+    torso = robot.torso_link
     k = index[torso]
     inertial = links[k].inertial
     if perturbation.com_offset_m != 0.0:
@@ -349,5 +330,4 @@ __all__ = [
     "predicted_com_shift",
     "simulated_robot",
     "simulated_scene",
-    "torso_link",
 ]

@@ -129,6 +129,25 @@ class RobotDescription:
         return self.links[0].name
 
     @property
+    def torso_link(self) -> str:
+        """The link the arms branch from (the humanoid's base, JVRC-1's chest above its waist
+        joints): the deepest link on the chains from the base to both hands; the base link for
+        a robot with fewer than two hands. Pushes and payloads act on it."""
+        parent_of = {joint.child: joint.parent for joint in self.joints}
+
+        def chain(link: str) -> list[str]:
+            links = [link]
+            while links[-1] in parent_of:
+                links.append(parent_of[links[-1]])
+            return links[::-1]  # base first
+
+        hands = [limb.link for limb in self.limbs if limb.name.endswith("hand")]
+        if len(hands) < 2:
+            return self.base_link
+        left, right = chain(hands[0]), chain(hands[1])
+        return [a for a, b in zip(left, right, strict=False) if a == b][-1]
+
+    @property
     def joint_names(self) -> tuple[str, ...]:
         return tuple(j.name for j in self.joints)
 

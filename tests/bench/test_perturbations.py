@@ -26,7 +26,6 @@ from robots.perturbation import (
     predicted_com_shift,
     simulated_robot,
     simulated_scene,
-    torso_link,
 )
 from robots.robot_registry import make_robot
 
@@ -35,10 +34,10 @@ SPECS = Path(__file__).parents[2] / "bench" / "specs"
 
 
 def test_torso_is_where_the_arms_branch():
-    assert torso_link(humanoid()) == "torso"  # the humanoid's base
+    assert humanoid().torso_link == "torso"  # the humanoid's base
     jvrc = make_robot("jvrc1")
-    assert torso_link(jvrc) != jvrc.base_link  # JVRC-1's chest, above its waist joints
-    assert jvrc.link(torso_link(jvrc)).inertial.mass > 5.0
+    assert jvrc.torso_link != jvrc.base_link  # JVRC-1's chest, above its waist joints
+    assert jvrc.link(jvrc.torso_link).inertial.mass > 5.0
 
 
 def test_payload_moves_the_centre_of_mass_by_the_lever_rule():

@@ -247,3 +247,25 @@ def test_reach_offsets_scale_with_the_robot():
         target = scenario.hand_target_at("right_hand", time)
         np.testing.assert_allclose(target - palm, 0.5 * np.array(offset), rtol=0, atol=1e-12)
     assert [np.linalg.norm(p.impulse_world) for p in scenario.pushes] == pytest.approx([15, 15])
+
+
+@pytest.mark.parametrize("robot", ["centrobench_humanoid", "jvrc1"])
+def test_every_push_acts_on_the_torso_above_the_centre_of_mass(robot):
+    """Sherikov et al. Sec. VII-A: "All disturbances are applied to the torso of the robot".
+    Every pushing scenario pushes the link both arms branch from, on both robots: the
+    humanoid's base, and JVRC-1's chest above its waist joints (not its pelvis, whose centre of
+    mass is at the robot's own height), whose centre of mass is well above the robot's."""
+    from robots.robot_registry import make_robot
+
+    description = make_robot(robot)
+    standing = RobotModel(description)
+    state = standing.standing_state()
+    torso = description.torso_link
+    position, rotation = standing.frame_pose(state, torso)
+    torso_com = position + rotation @ np.array(description.link(torso).inertial.com_in_link)
+    assert torso_com[2] > standing.com_position_world(state)[2] + 0.2
+    hands = {limb.link for limb in description.limbs if limb.name.endswith("hand")}
+    assert torso not in hands
+    for name in ("stand_push", "walk_push", "reach_push"):
+        pushed = {push.link for push in make_scenario(name, standing).pushes}
+        assert pushed == {torso}, name
