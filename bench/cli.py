@@ -528,6 +528,12 @@ def build_parser() -> argparse.ArgumentParser:
         help="with --resume: also run again the episodes that ended in an error or a timeout",
     )
     sweep.add_argument(
+        "--no-branching",
+        action="store_true",
+        help="run every pushed episode from the start, instead of branching the episodes that "
+        "differ only in their push from one run at the push time (same results, slower)",
+    )
+    sweep.add_argument(
         "--overwrite",
         action="store_true",
         help="start again: earlier results in OUT are moved aside, and deleted once the new "
@@ -1153,6 +1159,7 @@ def _sweep(args: argparse.Namespace) -> int:
             retry_errors=args.retry_errors,
             progress=not args.no_progress,
             on_start=announce,
+            branching=not args.no_branching,
         )
     except (ResultStoreError, ImportError) as exc:
         raise UsageError(str(exc)) from None

@@ -18,15 +18,17 @@ without targets, or with none active at the end).
 
 from __future__ import annotations
 
+import copy
 import math
 import time
 import traceback
-from collections.abc import MutableSequence
+from collections.abc import MutableSequence, Sequence
 from dataclasses import dataclass, field, replace
 
 import numpy as np
 import pandas as pd
 
+from bench.branching import Brancher
 from bench.footsteps import (
     FootstepRecorder,
     PlannedFootstepRecorder,
@@ -96,6 +98,9 @@ class EpisodeResult:
     trace: pd.DataFrame = field(repr=False)
     footsteps: pd.DataFrame | None = field(default=None, repr=False)
     """The steps taken (`bench.footsteps.FootstepRecorder.table`), None if none recorded."""
+    wall_s: float | None = None
+    """[s] wall-clock time of `run_episode` for this episode (set-up and loop; for a branched
+    episode the common part and its own continuation, `bench.branching`)."""
 
 
 class StageError(RuntimeError):
@@ -253,6 +258,39 @@ def run_episode(
     spec: EpisodeSpec,
     progress: MutableSequence[float] | None = None,
     record_configuration: bool = False,
+    branches: tuple[Sequence[EpisodeSpec], Sequence[float]] | None = None,
+) -> EpisodeResult | list:
+    """Run one episode (see `_run_episode`); with `branches` = (specs, wall-clock budgets [s]),
+    specs[0] being `spec`, run them as one episode forked at their first push
+    (`bench.branching.run_group`) and return their results in order (an exception in place of
+    a branch that overran its budget or died)."""
+    begin = time.perf_counter()
+    if branches is None:
+        result = _run_episode(spec, progress, record_configuration, None)
+        result.wall_s = time.perf_counter() - begin
+        return result
+    specs, budgets = branches
+    brancher = Brancher(len(specs), budgets, progress)
+    try:
+        result = _run_episode(spec, progress, record_configuration, brancher, specs)
+        result.wall_s = time.perf_counter() - begin - brancher.waited_s
+    except BaseException as exc:
+        if brancher.index > 0:
+            brancher.finish_child(exc)  # a child never returns into its parent's caller
+        raise
+    if brancher.index > 0:
+        brancher.finish_child(result)
+    if not brancher.split_done:  # ended before the push: as every episode of the group would
+        return [result, *(copy.deepcopy(result) for _ in specs[1:])]
+    return [result, *brancher.results[1:]]
+
+
+def _run_episode(
+    spec: EpisodeSpec,
+    progress: MutableSequence[float] | None,
+    record_configuration: bool,
+    brancher: Brancher | None,
+    branch_specs: Sequence[EpisodeSpec] = (),
 ) -> EpisodeResult:
     """Run one episode; never raises for a controller or simulator failure.
 
@@ -315,20 +353,7 @@ def run_episode(
         perturbation = spec.perturbation or NOMINAL
         simulated = simulated_robot(robot, perturbation, spec.seed)  # the controller has `model`
         truth = model if simulated is robot else cached_model(simulated)  # for the record
-        scenario = make_scenario(
-            spec.scenario,
-            model,
-            spec.duration,
-            spec.push_impulse,
-            spec.push_direction_deg,
-            spec.push_time,
-            spec.push_step,
-            spec.friction,
-            spec.speed,
-            spec.steps,
-            spec.push_swing_fraction,
-            spec.push_direction_name,
-        )
+        scenario = _pushed(spec, model)
         scene = scenario.scene
         # the ground the simulator has (the controllers keep the scenario's: flat)
         simulated_ground = simulated_scene(scene, perturbation, spec.seed, spec.scale)
@@ -361,9 +386,11 @@ def run_episode(
 
     n_periods = round(scenario.duration / dt)
     trace = _Trace(n_periods, robot.limb_names)
-    pending = sorted(
-        (replace(p, time=p.time + push_shift) for p in scenario.pushes), key=lambda p: p.time
-    )
+    pending = _shifted_pushes(scenario, push_shift)
+    if brancher is not None:
+        brancher.prepare(
+            [pending, *(_shifted_pushes(_pushed(s, model), push_shift) for s in branch_specs[1:])]
+        )
     support = _SupportPolygon(robot)
     recorder = FootstepRecorder(
         robot.limb_names,
@@ -390,6 +417,9 @@ def run_episode(
         for k in range(n_periods):
             t = k * dt
             progress[1] = t
+            if brancher is not None and brancher.due(t + dt / 2):
+                pending = brancher.split()  # a copy of this process per episode of the group
+                wall_start += brancher.waited_s
             while pending and pending[0].time < t + dt / 2:
                 push = pending.pop(0)
                 sim.push(push.link, np.array(push.impulse_world), push.duration)
@@ -519,6 +549,29 @@ def run_episode(
         )
     summary.update(provenance())
     return EpisodeResult(summary, frame, footsteps)
+
+
+def _shifted_pushes(scenario: Scenario, shift: float) -> list:
+    """The scenario's pushes, each `shift` [s] later (a replica's jitter), in time order."""
+    return sorted((replace(p, time=p.time + shift) for p in scenario.pushes), key=lambda p: p.time)
+
+
+def _pushed(spec: EpisodeSpec, model: RobotModel) -> Scenario:
+    """`spec`'s scenario (of a branch of a group, for its pushes: it shares the rest)."""
+    return make_scenario(
+        spec.scenario,
+        model,
+        spec.duration,
+        spec.push_impulse,
+        spec.push_direction_deg,
+        spec.push_time,
+        spec.push_step,
+        spec.friction,
+        spec.speed,
+        spec.steps,
+        spec.push_swing_fraction,
+        spec.push_direction_name,
+    )
 
 
 REPLICA_STREAM = 7_004

@@ -1,0 +1,180 @@
+"""Pushed episodes that share everything before their first push, run once up to it.
+
+The push protocols run many episodes that differ only in their push (20 directions per level,
+several levels): the same controller, simulator, robot, scenario, seed and push time. Up to
+the push they are the same computation, period for period. `run_group` runs that common part
+once and then forks the process at the push time, once per episode: each child continues
+with its own pushes, sends its result back through a pipe and exits; the parent waits for
+each child in turn (one process computes at a time, so a worker still uses one core) and
+then finishes the first episode itself. A forked child is a copy of the process, simulator
+state, controller state, random generators and trace included, so every episode's result is
+the one it would have had alone, bit for bit (`tests/bench/test_branching.py`; only the
+wall-clock timings differ, as between any two runs). The wall-clock time an episode reports
+is its own: the common part plus its own continuation, not the time spent waiting for the
+others.
+
+A child that overruns its wall-clock budget is killed and becomes an `EpisodeTimeout` with
+the stage and simulated time it had reached; one that dies becomes a `RuntimeError` with its
+exit; either way the other episodes of the group go on. An episode that ends before the push
+time (a fall, an error) ends every episode of its group the same way, as each would alone.
+
+POSIX only (os.fork); `branch_key` says which episodes may share a run.
+"""
+
+from __future__ import annotations
+
+import contextlib
+import ctypes
+import math
+import os
+import pickle
+import select
+import signal
+import sys
+import time
+from collections.abc import Sequence
+from dataclasses import replace
+from typing import Any
+
+from bench.executors import EpisodeTimeout, progress_stage
+
+BRANCHED_SCENARIOS = ("stand_push", "walk_push")
+"""Scenarios whose episodes differ only in their push (impulse and direction)."""
+
+
+def can_fork() -> bool:
+    """Whether this platform can branch episodes (os.fork)."""
+    return hasattr(os, "fork") and sys.platform != "win32"
+
+
+def branch_key(spec: Any) -> Any | None:
+    """What an `EpisodeSpec` shares with the episodes it may branch from: the spec without
+    its push impulse and direction (the push's time, step and swing fraction stay: they decide
+    where the common part ends); None for a scenario without a protocol push."""
+    if spec.scenario not in BRANCHED_SCENARIOS:
+        return None
+    return replace(spec, push_impulse=None, push_direction_deg=None, push_direction_name=None)
+
+
+class Brancher:
+    """Forks an episode at its first push, once per further episode of its group (`count`
+    episodes; `budgets_s`: their wall-clock budgets [s]). The runner gives it every episode's
+    pushes (`prepare`) and asks each period whether the push is `due`; after `split`, `index`
+    is the episode this process continues as (0: the parent, which holds the other episodes'
+    results in `results`)."""
+
+    def __init__(self, count: int, budgets_s: Sequence[float], progress: Any) -> None:
+        if len(budgets_s) != count:
+            raise ValueError(f"{count} episodes but {len(budgets_s)} budgets")
+        self.budgets_s = list(budgets_s)
+        self.progress = progress
+        self.pending: list[list] = []
+        self.index = 0
+        self.results: list[Any] = [None] * count
+        self.waited_s = 0.0  # [s] wall-clock time this process spent not running its episode
+        self.split_done = False
+        self._write_fd: int | None = None
+
+    def prepare(self, pending: Sequence[list]) -> None:
+        """Every episode's pushes (time order); their first pushes must come at one time."""
+        if len(pending) != len(self.results):
+            raise ValueError(f"{len(self.results)} episodes but {len(pending)} push lists")
+        if any(not p for p in pending) or len({p[0].time for p in pending}) != 1:
+            raise ValueError("branched episodes need a first push at one and the same time")
+        self.pending = [list(p) for p in pending]
+
+    def due(self, until: float) -> bool:
+        """Whether the group's first push comes before `until` [s] and has not been split."""
+        return not self.split_done and bool(self.pending) and self.pending[0][0].time < until
+
+    def split(self) -> list:
+        """Fork one child per further episode, wait for each; return this process's pushes."""
+        self.split_done = True
+        begin = time.perf_counter()
+        for index in range(1, len(self.pending)):
+            read_fd, write_fd = os.pipe()
+            started = time.perf_counter()
+            pid = os.fork()
+            if pid == 0:  # the child: episode `index`
+                os.close(read_fd)
+                self.index, self._write_fd = index, write_fd
+                _die_with_parent()
+                self.waited_s = time.perf_counter() - begin
+                return self.pending[index]
+            os.close(write_fd)
+            self.results[index] = self._collect(pid, read_fd, started, self.budgets_s[index])
+        self.waited_s = time.perf_counter() - begin
+        return self.pending[0]
+
+    def finish_child(self, result: Any) -> None:
+        """In a child: send `result` to the parent and exit (never returns)."""
+        assert self.index > 0 and self._write_fd is not None
+        try:
+            try:
+                data = pickle.dumps(result, protocol=pickle.HIGHEST_PROTOCOL)
+            except Exception as exc:  # a result that does not pickle
+                data = pickle.dumps(RuntimeError(f"{type(exc).__name__}: {exc}"))
+            view = memoryview(data)
+            while view:
+                view = view[os.write(self._write_fd, view) :]
+        finally:
+            os._exit(0)
+
+    def _collect(self, pid: int, fd: int, started: float, budget_s: float) -> Any:
+        """The child's result, or the exception that stands for it (timeout, death)."""
+        chunks = []
+        timed_out = False
+        try:
+            while True:
+                left = budget_s - (time.perf_counter() - started)
+                if left <= 0:
+                    timed_out = True
+                    break
+                ready, _, _ = select.select([fd], [], [], min(left, 1.0))
+                if not ready:
+                    continue
+                chunk = os.read(fd, 1 << 20)
+                if not chunk:
+                    break
+                chunks.append(chunk)
+        finally:
+            os.close(fd)
+        if timed_out:
+            stage = progress_stage(self.progress[0]) if self.progress is not None else None
+            sim_time = float(self.progress[1]) if self.progress is not None else None
+            with contextlib.suppress(ProcessLookupError):
+                os.kill(pid, signal.SIGKILL)
+            os.waitpid(pid, 0)
+            return EpisodeTimeout(budget_s, stage, sim_time)
+        _, status = os.waitpid(pid, 0)
+        if chunks:
+            with contextlib.suppress(Exception):
+                return pickle.loads(b"".join(chunks))
+        if os.WIFSIGNALED(status):
+            how = f"was killed by {signal.Signals(os.WTERMSIG(status)).name}"
+        else:
+            how = f"exited with status {os.WEXITSTATUS(status)}"
+        return RuntimeError(f"the episode's branch process {how} without a result")
+
+
+def _die_with_parent() -> None:
+    """A child ends when the process that forked it does (Linux: SIGKILL from the kernel)."""
+    if sys.platform.startswith("linux"):
+        with contextlib.suppress(Exception):
+            ctypes.CDLL(None).prctl(1, signal.SIGKILL, 0, 0, 0)  # PR_SET_PDEATHSIG
+
+
+def run_group(
+    specs: Sequence[Any], progress: Any = None, budgets_s: Sequence[float] | None = None
+) -> list[Any]:
+    """Run the episodes `specs` (all with the same `branch_key`) as one run up to their first
+    push: their `EpisodeResult`s in order, or for an episode whose branch overran its budget
+    (`budgets_s`, wall-clock seconds each; default none) or died, the exception."""
+    from bench.runner import run_episode
+
+    keys = {branch_key(spec) for spec in specs}
+    if len(keys) != 1 or None in keys:
+        raise ValueError("run_group: the episodes must share one branch_key")
+    if budgets_s is None:
+        budgets_s = [math.inf] * len(specs)
+    return run_episode(specs[0], progress=progress, branches=(list(specs), list(budgets_s)))

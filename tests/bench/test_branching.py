@@ -1,0 +1,154 @@
+"""Pushed episodes branched from one run at the push time (`bench.branching`): the same
+results as run alone, bit for bit; a branch that hangs or dies takes only itself; a sweep
+with branching writes the rows of one without."""
+
+from __future__ import annotations
+
+import os
+import signal
+from dataclasses import replace
+from pathlib import Path
+
+import pytest
+
+from bench.branching import Brancher, branch_key, run_group
+from bench.executors import EpisodeTimeout
+from bench.runner import EpisodeSpec, run_episode
+from bench.sweep import EpisodeGroup, group_for_branching, run_sweep
+from tests.bench.test_sweep import physical, small_spec
+
+TIMING_KEYS = {"latency_us", "latency_by_contacts_us", "real_time_factor", "worker"}
+"""Summary entries that differ between any two runs of an episode (wall-clock timings, and
+the process that ran it)."""
+
+
+def _pushes(sim: str, scenario: str = "stand_push", **extra) -> list[EpisodeSpec]:
+    """Three episodes of one controller that differ only in the push's direction (one of them
+    survives, two fall: the branches part ways)."""
+    if scenario == "stand_push":
+        extra = {"duration": 3.0, "push_time": 1.5, **extra}
+    return [
+        EpisodeSpec(
+            "preview_control",
+            "centroidal_feedback",
+            sim,
+            scenario,
+            push_impulse=21.0,
+            push_direction_deg=direction,
+            **extra,
+        )
+        for direction in (0.0, 90.0, 200.0)
+    ]
+
+
+def _assert_same(branched, alone) -> None:
+    timings = [c for c in alone.trace.columns if c.startswith("t_")]
+    assert branched.trace.drop(columns=timings).equals(alone.trace.drop(columns=timings))
+    for key in alone.summary.keys() - TIMING_KEYS:
+        assert repr(branched.summary[key]) == repr(alone.summary[key]), key
+    if alone.footsteps is None:
+        assert branched.footsteps is None
+    else:
+        assert branched.footsteps.equals(alone.footsteps)
+
+
+@pytest.mark.parametrize(
+    ("sim", "scenario"),
+    [("mujoco", "stand_push"), ("pybullet", "stand_push"), ("mujoco", "walk_push")],
+)
+def test_branched_episodes_are_the_episodes_run_alone_bit_for_bit(sim, scenario):
+    """preview_control + centroidal_feedback, pushed from three directions at one time: the
+    group's results equal the three episodes run one by one (traces, footsteps and summaries,
+    but for the wall-clock timings), and they differ from each other after the push."""
+    specs = _pushes(sim, scenario)
+    branched = run_group(specs)
+    alone = [run_episode(spec) for spec in specs]
+    for b, a in zip(branched, alone, strict=True):
+        _assert_same(b, a)
+    assert len({round(r.trace["com_actual_y"].iloc[-1], 9) for r in alone}) == 3
+    for result in branched:  # each reports its own wall-clock time, not the group's
+        assert 0 < result.wall_s < sum(r.wall_s for r in branched)
+
+
+def test_a_branch_over_its_budget_ends_alone_as_a_timeout():
+    """The second branch gets 1 ms of wall-clock time after the fork: it is killed and becomes
+    an `EpisodeTimeout` that says where it was (past the push); the others finish as alone."""
+    specs = _pushes("mujoco")
+    progress = [0.0, 0.0]
+    results = run_group(specs, progress, budgets_s=[600.0, 0.001, 600.0])
+    timeout = results[1]
+    assert isinstance(timeout, EpisodeTimeout)
+    assert timeout.sim_time_s is not None
+    assert timeout.sim_time_s >= 1.5 - 1e-9  # it was forked at the push
+    for k in (0, 2):
+        _assert_same(results[k], run_episode(specs[k]))
+
+
+def test_a_branch_that_dies_takes_only_itself(monkeypatch):
+    """A branch process killed right after the fork is a RuntimeError naming the signal; the
+    group's other episodes finish."""
+    split = Brancher.split
+
+    def split_and_kill_branch_1(self):
+        pending = split(self)
+        if self.index == 1:
+            os.kill(os.getpid(), signal.SIGKILL)
+        return pending
+
+    monkeypatch.setattr(Brancher, "split", split_and_kill_branch_1)
+    specs = _pushes("mujoco")
+    results = run_group(specs)
+    assert isinstance(results[1], RuntimeError)
+    assert "SIGKILL" in str(results[1])
+    assert results[0].summary["status"] in ("ok", "fell")
+    assert results[2].summary["status"] in ("ok", "fell")
+
+
+def test_a_group_that_ends_before_its_push_ends_every_episode_so():
+    """An episode that cannot start (an unknown estimator) ends the same way for every episode
+    of its group: an error row each, never run apart."""
+    specs = [replace(spec, estimator="no_such_estimator") for spec in _pushes("mujoco")]
+    results = run_group(specs)
+    assert len(results) == 3
+    for result in results:
+        assert result.summary["status"] == "error"
+        assert "no_such_estimator" in result.summary["error"]
+
+
+def test_only_episodes_that_differ_in_their_push_share_a_run():
+    base = _pushes("mujoco")[0]
+    assert branch_key(base) == branch_key(replace(base, push_direction_deg=33.0))
+    assert branch_key(base) == branch_key(replace(base, push_impulse=5.0))
+    assert branch_key(base) != branch_key(replace(base, push_time=1.0))
+    assert branch_key(base) != branch_key(replace(base, sim="pybullet"))
+    assert branch_key(base) != branch_key(replace(base, seed=1))
+    assert branch_key(replace(base, scenario="walk")) is None
+    with pytest.raises(ValueError, match="branch_key"):
+        run_group([base, replace(base, push_time=1.0)])
+
+
+def test_a_sweep_groups_the_pushes_of_a_level_and_keeps_the_rest_alone():
+    spec = small_spec(count=4)
+    episodes = spec.episodes()
+    items = group_for_branching(episodes, lambda e: 10.0)
+    groups = [item for item in items if isinstance(item, EpisodeGroup)]
+    singles = [item for item in items if not isinstance(item, EpisodeGroup)]
+    assert sorted(len(g.episodes) for g in groups) == [4, 4]  # one per simulator
+    assert {e.run.scenario for e in singles} == {"stand"}
+    assert all(g.budgets_s == (10.0,) * 4 for g in groups)
+    flattened = [e for item in items for e in getattr(item, "episodes", (item,))]
+    assert sorted(e.episode_id for e in flattened) == sorted(e.episode_id for e in episodes)
+    smaller = group_for_branching(episodes, lambda e: 10.0, size=3)
+    assert sorted(len(g.episodes) for g in smaller if isinstance(g, EpisodeGroup)) == [3, 3]
+    assert sum(not isinstance(g, EpisodeGroup) for g in smaller) == len(singles) + 2
+
+
+def test_a_sweep_with_branching_writes_the_rows_of_one_without(tmp_path: Path):
+    spec = small_spec(count=4)
+    branched = run_sweep(spec, tmp_path / "branched", workers=2, progress=False)
+    alone = run_sweep(spec, tmp_path / "alone", workers=2, progress=False, branching=False)
+    order = "episode_id"
+    assert len(branched) == len(alone) == len(spec.episodes())
+    left = physical(branched.sort_values(order))
+    right = physical(alone.sort_values(order))
+    assert left.equals(right)
