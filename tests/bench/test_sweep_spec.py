@@ -470,7 +470,15 @@ def test_the_main_job_is_every_controller_on_each_protocol_it_can_run():
 
     spec = load_spec(Path(__file__).parents[2] / "bench" / "specs" / "main.toml")
     names = [p.name for p in spec.protocols]
-    assert names == ["walks", "motions", "reaching", "walking_pushes", "standing_pushes"]
+    assert names == [
+        "walks",
+        "motions",
+        "reaching",
+        "walking_pushes",
+        "jvrc1_walking_pushes",
+        "standing_pushes",
+        "jvrc1_standing_pushes",
+    ]
     episodes = spec.episodes()
     registered, sims = set(CONTROLLERS), {"mujoco", "pybullet"}
     by = {name: [e for e in episodes if e.protocol == name] for name in names}
@@ -478,6 +486,8 @@ def test_the_main_job_is_every_controller_on_each_protocol_it_can_run():
         "walks": (registered, 1),
         "standing_pushes": (registered, 20),
         "walking_pushes": (registered, 20),
+        "jvrc1_standing_pushes": (registered, 20),
+        "jvrc1_walking_pushes": (registered, 20),
         "motions": (registered, 3),
         "reaching": (registered | {"capturability_hierarchy"}, 2),
     }
@@ -495,9 +505,16 @@ def test_the_main_job_is_every_controller_on_each_protocol_it_can_run():
     assert {e.controller for e in by["motions"] if e.refused is None} == multi_contact
     assert len(multi_contact) == 3  # Murooka's pair, its feed-forward variant, the MPC
     assert all(e.refused is None for name in names if name != "motions" for e in by[name])
-    for name, phase in (("standing_pushes", "standing"), ("walking_pushes", "walking")):
+    for name, phase in (
+        ("standing_pushes", "standing"),
+        ("walking_pushes", "walking"),
+        ("jvrc1_standing_pushes", "standing"),
+        ("jvrc1_walking_pushes", "walking"),
+    ):
         pushes = by[name]
         assert {e.push_phase for e in pushes} == {phase}
+        robot = "jvrc1" if name.startswith("jvrc1") else "centrobench_humanoid"
+        assert {e.run.robot for e in pushes} == {robot}
         directions = {}
         for e in pushes:
             directions.setdefault((e.controller, e.run.sim), []).append(
