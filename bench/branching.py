@@ -5,20 +5,23 @@ several levels): the same controller, simulator, robot, scenario, seed and push 
 the push they are the same computation, period for period. `run_group` runs that common part
 once and then forks the process at the push time, once per episode: each child continues
 with its own pushes, sends its result back through a pipe and exits; the parent waits for
-each child in turn (one process computes at a time, so a worker still uses one core) and
-then finishes the first episode itself. A forked child is a copy of the process, simulator
+each child in turn (one process computes at a time, so a worker still uses one core) and runs
+no episode of its own, so that nothing one episode does (a hang, an exception) can take the
+others' results with it. A forked child is a copy of the process, simulator
 state, controller state, random generators and trace included, so every episode's result is
 the one it would have had alone, bit for bit (`tests/bench/test_branching.py`; only the
 wall-clock timings differ, as between any two runs). The wall-clock time an episode reports
 is its own: the common part plus its own continuation, not the time spent waiting for the
 others.
 
-A child that overruns its wall-clock budget is killed and becomes an `EpisodeTimeout` with
-the stage and simulated time it had reached; one that dies becomes a `RuntimeError` with its
-exit; either way the other episodes of the group go on. An episode that ends before the push
-time (a fall, an error) ends every episode of its group the same way, as each would alone.
+A child that overruns its wall-clock budget (its episode's, less the common part's time) is
+killed and becomes an `EpisodeTimeout` with the stage and simulated time it had reached; one
+that dies becomes a `RuntimeError` with its exit, and one that cannot be forked a
+`RuntimeError` saying so; either way the other episodes of the group go on. An episode that
+ends before the push time (a fall, an error) ends every episode of its group the same way, as
+each would alone.
 
-POSIX only (os.fork); `branch_key` says which episodes may share a run.
+Linux only (`can_fork`); `branch_key` says which episodes may share a run.
 """
 
 from __future__ import annotations
@@ -43,8 +46,9 @@ BRANCHED_SCENARIOS = ("stand_push", "walk_push")
 
 
 def can_fork() -> bool:
-    """Whether this platform can branch episodes (os.fork)."""
-    return hasattr(os, "fork") and sys.platform != "win32"
+    """Whether this platform branches episodes: Linux only (os.fork, and PR_SET_PDEATHSIG so
+    that no branch outlives the worker that forked it)."""
+    return hasattr(os, "fork") and sys.platform.startswith("linux")
 
 
 def branch_key(spec: Any) -> Any | None:
@@ -57,11 +61,10 @@ def branch_key(spec: Any) -> Any | None:
 
 
 class Brancher:
-    """Forks an episode at its first push, once per further episode of its group (`count`
-    episodes; `budgets_s`: their wall-clock budgets [s]). The runner gives it every episode's
-    pushes (`prepare`) and asks each period whether the push is `due`; after `split`, `index`
-    is the episode this process continues as (0: the parent, which holds the other episodes'
-    results in `results`)."""
+    """Forks an episode at its first push, once per episode of its group (`count` episodes;
+    `budgets_s`: their wall-clock budgets [s]). The runner gives it every episode's pushes
+    (`prepare`) and asks each period whether the push is `due`; after `split`, a child runs
+    episode `index`, the parent holds every episode's result in `results`."""
 
     def __init__(self, count: int, budgets_s: Sequence[float], progress: Any) -> None:
         if len(budgets_s) != count:
@@ -87,28 +90,46 @@ class Brancher:
         """Whether the group's first push comes before `until` [s] and has not been split."""
         return not self.split_done and bool(self.pending) and self.pending[0][0].time < until
 
-    def split(self) -> list:
-        """Fork one child per further episode, wait for each; return this process's pushes."""
+    @property
+    def is_child(self) -> bool:
+        """Whether this process is a branch (it runs episode `index` and then exits)."""
+        return self._write_fd is not None
+
+    def split(self, common_s: float) -> list:
+        """Fork one child per episode and return its pushes in it; in the parent, wait for
+        each child in turn (each held to its budget less `common_s`, the wall-clock time [s]
+        of the common part already spent) and raise `BranchesDone`: the parent runs no
+        episode of its own, so that nothing one episode does can take the others' results."""
         self.split_done = True
         begin = time.perf_counter()
-        for index in range(1, len(self.pending)):
-            read_fd, write_fd = os.pipe()
+        parent = os.getpid()
+        for index in range(len(self.pending)):
             started = time.perf_counter()
-            pid = os.fork()
+            try:
+                read_fd, write_fd = os.pipe()
+                try:
+                    pid = os.fork()
+                except OSError:
+                    os.close(read_fd)
+                    os.close(write_fd)
+                    raise
+            except OSError as exc:  # no process or pipe for this one: its result says so
+                self.results[index] = RuntimeError(f"could not branch the episode: {exc}")
+                continue
             if pid == 0:  # the child: episode `index`
                 os.close(read_fd)
                 self.index, self._write_fd = index, write_fd
-                _die_with_parent()
+                _die_with_parent(parent)
                 self.waited_s = time.perf_counter() - begin
                 return self.pending[index]
             os.close(write_fd)
-            self.results[index] = self._collect(pid, read_fd, started, self.budgets_s[index])
-        self.waited_s = time.perf_counter() - begin
-        return self.pending[0]
+            budget = self.budgets_s[index] - common_s
+            self.results[index] = self._collect(pid, read_fd, started, budget)
+        raise BranchesDone
 
     def finish_child(self, result: Any) -> None:
         """In a child: send `result` to the parent and exit (never returns)."""
-        assert self.index > 0 and self._write_fd is not None
+        assert self._write_fd is not None
         try:
             try:
                 data = pickle.dumps(result, protocol=pickle.HIGHEST_PROTOCOL)
@@ -121,15 +142,17 @@ class Brancher:
             os._exit(0)
 
     def _collect(self, pid: int, fd: int, started: float, budget_s: float) -> Any:
-        """The child's result, or the exception that stands for it (timeout, death)."""
+        """The child's result, or the exception that stands for it (timeout, death). The
+        child is reaped however this ends."""
         chunks = []
-        timed_out = False
+        status = None
         try:
             while True:
                 left = budget_s - (time.perf_counter() - started)
                 if left <= 0:
-                    timed_out = True
-                    break
+                    stage = progress_stage(self.progress[0]) if self.progress is not None else None
+                    sim_time = float(self.progress[1]) if self.progress is not None else None
+                    return EpisodeTimeout(budget_s, stage, sim_time)
                 ready, _, _ = select.select([fd], [], [], min(left, 1.0))
                 if not ready:
                     continue
@@ -137,16 +160,14 @@ class Brancher:
                 if not chunk:
                     break
                 chunks.append(chunk)
+            _, status = os.waitpid(pid, 0)
         finally:
             os.close(fd)
-        if timed_out:
-            stage = progress_stage(self.progress[0]) if self.progress is not None else None
-            sim_time = float(self.progress[1]) if self.progress is not None else None
-            with contextlib.suppress(ProcessLookupError):
-                os.kill(pid, signal.SIGKILL)
-            os.waitpid(pid, 0)
-            return EpisodeTimeout(budget_s, stage, sim_time)
-        _, status = os.waitpid(pid, 0)
+            if status is None:  # timed out, or interrupted: the child goes
+                with contextlib.suppress(ProcessLookupError):
+                    os.kill(pid, signal.SIGKILL)
+                with contextlib.suppress(ChildProcessError):
+                    os.waitpid(pid, 0)
         if chunks:
             with contextlib.suppress(Exception):
                 return pickle.loads(b"".join(chunks))
@@ -157,11 +178,18 @@ class Brancher:
         return RuntimeError(f"the episode's branch process {how} without a result")
 
 
-def _die_with_parent() -> None:
-    """A child ends when the process that forked it does (Linux: SIGKILL from the kernel)."""
-    if sys.platform.startswith("linux"):
-        with contextlib.suppress(Exception):
-            ctypes.CDLL(None).prctl(1, signal.SIGKILL, 0, 0, 0)  # PR_SET_PDEATHSIG
+def _die_with_parent(parent: int) -> None:
+    """A child ends when the process that forked it (`parent`, its pid) does: SIGKILL from the
+    kernel (Linux PR_SET_PDEATHSIG), and at once if the parent died before that took effect."""
+    with contextlib.suppress(Exception):
+        ctypes.CDLL(None).prctl(1, signal.SIGKILL, 0, 0, 0)  # PR_SET_PDEATHSIG
+    if os.getppid() != parent:
+        os._exit(1)
+
+
+class BranchesDone(BaseException):
+    """Raised in the parent once every branch has ended: it leaves the episode loop (through
+    its clean-up, past its `except Exception`) to return the branches' results."""
 
 
 def run_group(

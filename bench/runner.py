@@ -28,7 +28,7 @@ from dataclasses import dataclass, field, replace
 import numpy as np
 import pandas as pd
 
-from bench.branching import Brancher
+from bench.branching import Brancher, BranchesDone
 from bench.footsteps import (
     FootstepRecorder,
     PlannedFootstepRecorder,
@@ -261,9 +261,9 @@ def run_episode(
     branches: tuple[Sequence[EpisodeSpec], Sequence[float]] | None = None,
 ) -> EpisodeResult | list:
     """Run one episode (see `_run_episode`); with `branches` = (specs, wall-clock budgets [s]),
-    specs[0] being `spec`, run them as one episode forked at their first push
-    (`bench.branching.run_group`) and return their results in order (an exception in place of
-    a branch that overran its budget or died)."""
+    specs[0] being `spec`, run them as one episode forked at their first push, one process per
+    episode (`bench.branching.run_group`), and return their results in order (an exception in
+    place of a branch that overran its budget, died or could not be forked)."""
     begin = time.perf_counter()
     if branches is None:
         result = _run_episode(spec, progress, record_configuration, None)
@@ -272,17 +272,18 @@ def run_episode(
     specs, budgets = branches
     brancher = Brancher(len(specs), budgets, progress)
     try:
-        result = _run_episode(spec, progress, record_configuration, brancher, specs)
+        result = _run_episode(spec, progress, record_configuration, brancher, specs, begin)
         result.wall_s = time.perf_counter() - begin - brancher.waited_s
+    except BranchesDone:  # the parent, once every branch has ended
+        return brancher.results
     except BaseException as exc:
-        if brancher.index > 0:
+        if brancher.is_child:
             brancher.finish_child(exc)  # a child never returns into its parent's caller
         raise
-    if brancher.index > 0:
+    if brancher.is_child:
         brancher.finish_child(result)
-    if not brancher.split_done:  # ended before the push: as every episode of the group would
-        return [result, *(copy.deepcopy(result) for _ in specs[1:])]
-    return [result, *brancher.results[1:]]
+    # ended before the push: as every episode of the group would
+    return [result, *(copy.deepcopy(result) for _ in specs[1:])]
 
 
 def _run_episode(
@@ -291,6 +292,7 @@ def _run_episode(
     record_configuration: bool,
     brancher: Brancher | None,
     branch_specs: Sequence[EpisodeSpec] = (),
+    call_start: float = 0.0,
 ) -> EpisodeResult:
     """Run one episode; never raises for a controller or simulator failure.
 
@@ -418,7 +420,8 @@ def _run_episode(
             t = k * dt
             progress[1] = t
             if brancher is not None and brancher.due(t + dt / 2):
-                pending = brancher.split()  # a copy of this process per episode of the group
+                # a copy of this process per episode of the group; the parent leaves the loop
+                pending = brancher.split(time.perf_counter() - call_start)
                 wall_start += brancher.waited_s
             while pending and pending[0].time < t + dt / 2:
                 push = pending.pop(0)
@@ -525,7 +528,8 @@ def _run_episode(
         )
         summary["com_error_rms_m"] = float(np.sqrt(np.mean(np.sum(error**2, axis=1))))
     if len(frame):
-        summary["projection_error"] = _projection_error(frame, planner.projects_wrench)
+        projects = getattr(planner, "projects_wrench", True)  # a planner from before the flag
+        summary["projection_error"] = _projection_error(frame, projects)
         summary["zmp_margin_min_m"] = float(frame["zmp_margin_m"].min())
     if "solver_iterations" in frame and len(frame):
         iterations = frame["solver_iterations"].to_numpy()

@@ -71,8 +71,9 @@ def test_branched_episodes_are_the_episodes_run_alone_bit_for_bit(sim, scenario)
 
 
 def test_a_branch_over_its_budget_ends_alone_as_a_timeout():
-    """The second branch gets 1 ms of wall-clock time after the fork: it is killed and becomes
-    an `EpisodeTimeout` that says where it was (past the push); the others finish as alone."""
+    """The second episode's budget is 1 ms, less than its common part took: its branch is
+    ended and becomes an `EpisodeTimeout` that says where it was (at the push); the others
+    finish as alone."""
     specs = _pushes("mujoco")
     progress = [0.0, 0.0]
     results = run_group(specs, progress, budgets_s=[600.0, 0.001, 600.0])
@@ -84,22 +85,43 @@ def test_a_branch_over_its_budget_ends_alone_as_a_timeout():
         _assert_same(results[k], run_episode(specs[k]))
 
 
-def test_a_branch_that_dies_takes_only_itself(monkeypatch):
+@pytest.mark.parametrize("killed", [0, 1])
+def test_a_branch_that_dies_takes_only_itself(monkeypatch, killed):
     """A branch process killed right after the fork is a RuntimeError naming the signal; the
-    group's other episodes finish."""
+    group's other episodes finish as alone (the first episode too runs in a branch of its
+    own: the process that forked them runs none)."""
     split = Brancher.split
 
-    def split_and_kill_branch_1(self):
-        pending = split(self)
-        if self.index == 1:
+    def split_and_kill_one(self, common_s):
+        pending = split(self, common_s)
+        if self.index == killed:
             os.kill(os.getpid(), signal.SIGKILL)
         return pending
 
-    monkeypatch.setattr(Brancher, "split", split_and_kill_branch_1)
+    monkeypatch.setattr(Brancher, "split", split_and_kill_one)
     specs = _pushes("mujoco")
     results = run_group(specs)
+    assert isinstance(results[killed], RuntimeError)
+    assert "SIGKILL" in str(results[killed])
+    for k in {0, 1, 2} - {killed}:
+        _assert_same(results[k], run_episode(specs[k]))
+
+
+def test_a_branch_that_cannot_be_forked_is_an_error_and_the_others_run(monkeypatch):
+    """os.fork failing for the second episode (no memory, too many processes) makes that
+    episode a RuntimeError saying so; the first and the third run."""
+    fork, calls = os.fork, []
+
+    def failing_second_fork():
+        calls.append(1)
+        if len(calls) == 2:
+            raise OSError(11, "Resource temporarily unavailable")
+        return fork()
+
+    monkeypatch.setattr(os, "fork", failing_second_fork)
+    results = run_group(_pushes("mujoco"))
     assert isinstance(results[1], RuntimeError)
-    assert "SIGKILL" in str(results[1])
+    assert "could not branch" in str(results[1])
     assert results[0].summary["status"] in ("ok", "fell")
     assert results[2].summary["status"] in ("ok", "fell")
 
