@@ -117,10 +117,14 @@ class FiveMassGaitPlanner:
         five = FiveMassModel(robot).evaluate(robot.configuration(state))
         middle = (left + right) / 2
         self.neutral = _neutral_offset(five.axes_world, com - middle)
-        self.com_ref = np.array([middle[0], middle[1]])
+        # standing: the reference CoM starts at the robot's own and settles onto the feet's
+        # midpoint (`_return_to_middle`; a robot whose nominal posture has its CoM off the
+        # midpoint, as JVRC-1's half-sitting 19 mm behind it, is not asked to jump there)
+        self.com_ref = np.array([com[0], com[1]])
         self.velocity_ref = np.zeros(2)
         self.zmp_ref = self.com_ref.copy()
-        self.mode = "stand"
+        self.mode, self.mode_start = "stand", 0.0
+        self.stop_from = (self.com_ref.copy(), self.velocity_ref.copy())
         self.mu = 0.0
         self.f_tilde = self.f_g
         self.steps_done = 0
@@ -155,7 +159,9 @@ class FiveMassGaitPlanner:
         if self.mode == "stand" and t >= self.start_time:
             self.mode, self.mode_start = "shift", t
             self.zmp_ref = self._weight_shift_zmp()
-        if self.mode == "shift":
+        if self.mode == "stand":
+            self._return_to_middle(t)
+        elif self.mode == "shift":
             self.com_ref, self.velocity_ref = lipm_state(
                 self.com_ref, self.velocity_ref, self.zmp_ref, self.omega, dt
             )
@@ -164,7 +170,7 @@ class FiveMassGaitPlanner:
         elif self.mode == "walk":
             self._walk_period(t, state)
         elif self.mode == "stop":
-            self._stop_period(t)
+            self._return_to_middle(t)
         return self._output(t, start)
 
     def _weight_shift_zmp(self) -> np.ndarray:
@@ -248,8 +254,10 @@ class FiveMassGaitPlanner:
             return
         self._plan_next_foothold()
 
-    def _stop_period(self, t: float) -> None:
-        """Critically damped return of the reference CoM to the feet's midpoint."""
+    def _return_to_middle(self, t: float) -> None:
+        """Critically damped return (rate omega) of the reference CoM to the feet's midpoint
+        from `stop_from` (its position and velocity at `mode_start`): after the closing step,
+        and while standing from the initial CoM (neither is in the paper)."""
         middle = (self.feet["left_foot"].position[:2] + self.feet["right_foot"].position[:2]) / 2
         x0, v0 = self.stop_from
         tau = t + self.dt - self.mode_start

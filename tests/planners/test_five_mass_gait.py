@@ -117,3 +117,33 @@ def test_eq_17_a_sagittal_lead_lengthens_the_step(model):
         t, replace(state, com_position_world=state.com_position_world + np.array([0.01, 0, 0]))
     )
     np.testing.assert_array_equal(planner.next.position, nominal)
+
+
+def test_standing_the_reference_starts_at_the_robots_com_and_settles_on_the_feet(model):
+    """JVRC-1's half-sitting has its CoM 19.8 mm behind the feet's midpoint: the reference CoM
+    starts at the robot's own (no step at t = 0, which threw the robot forward), is continuous,
+    settles on the midpoint (critically damped at omega), and its ZMP, p = x - x''/omega^2
+    (behind the CoM by the whole offset at first, to set it moving), stays on the soles."""
+    from robots.jvrc1 import jvrc1
+
+    jvrc = RobotModel(jvrc1())
+    planner, state = _start(jvrc, make_scenario("stand", jvrc))
+    feet = [jvrc.robot.limb_names.index(f"{side}_foot") for side in ("left", "right")]
+    start = state.com_position_world[:2]
+    com, zmp = [], []
+    for k in range(round(3.0 / DT)):
+        plan, state = _follow(planner, state, k * DT)
+        com.append(plan.com_planned_world[:2])
+        zmp.append(plan.zmp_planned_world[:2])
+    middle = plan.limb_target_position_world[feet, :2].mean(axis=0)
+    com, zmp = np.array(com), np.array(zmp)
+    assert np.linalg.norm(middle - start) > 0.015  # the case this test is about
+    assert np.linalg.norm(com[0] - start) < 0.02 * np.linalg.norm(middle - start)  # one period
+    assert np.abs(np.diff(com, axis=0)).max() < 0.1 * DT  # below 0.1 m/s
+    assert np.linalg.norm(com[-1] - middle) < 1e-4
+    # the soles side by side, level, unturned: their rectangles' hull is an axis-aligned box
+    soles = plan.limb_target_position_world[feet, :2]
+    half = np.array(jvrc.robot.limbs[feet[0]].half_extents)
+    assert np.all(zmp >= soles.min(axis=0) - half)
+    assert np.all(zmp <= soles.max(axis=0) + half)
+    assert zmp[0] @ (middle - start) < start @ (middle - start)  # first behind the CoM
