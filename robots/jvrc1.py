@@ -21,7 +21,8 @@ The adapter, and the source of everything it adds to the URDF:
 - Collision shapes: the meshes' bounding boxes, fitted once (`robots.jvrc1_shapes`); each
   foot's box is the sole's rectangle (so that the simulators' support polygon is the one the
   controllers use), from the sole down to the mesh's top.
-- Nominal posture: mc_rtc's half-sitting (`default_q` of src/mc_robots/jvrc1.cpp).
+- Nominal posture: mc_rtc's half-sitting (`default_q` of src/mc_robots/jvrc1.cpp), with the
+  ankles turned so that both soles are level under the upright base (`level_soles`).
 - Servo gains and torque limits: `_SOURCE_SERVO` below, with their sources, adapted by
   `servo_gains_without_rotor_inertia` and `torque_limits`.
 """
@@ -357,7 +358,60 @@ def jvrc1() -> RobotDescription:
         fall_height=FALL_HEIGHT_M * size_relative_to_humanoid(hip_to_sole),
     )
     description.validate()
-    return _with_servo_adapted(description)
+    return _with_servo_adapted(level_soles(description))
+
+
+def level_soles(description: RobotDescription, tolerance_rad: float = 1e-12) -> RobotDescription:
+    """`description` with each foot's two ankle joints (the joints named *ankle* in any case
+    on its chain) turned in the nominal posture so that its sole is level, the sole's z axis
+    vertical, when the base is upright (as `RobotModel.standing_state` places the robot).
+
+    Adaptation: mc_rtc's half-sitting, with an upright pelvis, pitches both soles 0.010 rad
+    toes-up (hip -0.38 + knee 0.72 + ankle -0.33 rad) and rolls the right one 0.019 rad (hip
+    roll -0.01, ankle roll -0.01; the left's 0.02 and -0.02 cancel). The robot then started
+    with a sole corner up to 1.75 mm inside the ground, and every controller's first command,
+    which holds the soles flat on the scenario's level footholds, turned both ankles at once:
+    the feet carried up to 2.4 m g in the first periods (Murooka's controllers, MuJoCo; the
+    humanoid 1.1 m g). The change: -0.010 rad of ankle pitch on each foot, +0.020 rad of ankle
+    roll on the right one; the CoM moves 1.0 mm back and 0.2 mm down."""
+    from robots.model import RobotModel
+    from robots.types import RobotState
+
+    model = RobotModel(description)
+    names = [joint.name for joint in description.joints]
+    posture = np.array(description.nominal_posture)
+    upright = np.array([1.0, 0.0, 0.0, 0.0])
+    for limb in description.limbs:
+        if not limb.name.endswith("foot"):
+            continue
+        ankles, joint = [], model.model.frames[model.frame_id[limb.contact_frame]].parentJoint
+        while joint > 0:
+            if "ankle" in model.model.names[joint].lower():
+                ankles.append(names.index(model.model.names[joint]))
+            joint = model.model.parents[joint]
+        if len(ankles) != 2:
+            raise ValueError(f"{description.name}: {limb.name} has {len(ankles)} ankle joints")
+
+        def tilt(q: np.ndarray, frame: str = limb.contact_frame) -> np.ndarray:
+            """The sole's z axis's horizontal components in the world."""
+            state = RobotState.at_rest(np.zeros(3), upright, q)
+            return model.frame_pose(state, frame)[1][:2, 2]
+
+        for _ in range(20):  # Newton on the two ankle angles, finite-difference Jacobian
+            error = tilt(posture)
+            if np.abs(error).max() < tolerance_rad:
+                break
+            jacobian = np.empty((2, 2))
+            for column, index in enumerate(ankles):
+                moved = posture.copy()
+                moved[index] += 1e-7
+                jacobian[:, column] = (tilt(moved) - error) / 1e-7
+            posture[ankles] -= np.linalg.solve(jacobian, error)
+        else:
+            raise ValueError(f"{description.name}: cannot level the sole of {limb.name}")
+    levelled = replace(description, nominal_posture=tuple(float(q) for q in posture))
+    levelled.validate()
+    return levelled
 
 
 def _with_servo_adapted(description: RobotDescription) -> RobotDescription:
