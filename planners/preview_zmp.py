@@ -6,8 +6,9 @@ Horizontal axes: state [x, x', x''], input the jerk, output the ZMP p = x - (z_c
 (cart-table with a constant CoM height z_c); cost sum Q (p - p_ref)^2 + R u^2 with Kajita's
 weights Q = 1, R = 1e-6, discretised at 5 ms with a 2 s preview (Kajita uses 1.6 s; 2 s as in
 Table I, so both planners see the same future). The ZMP reference is the support centre, by the
-same piecewise-constant rule as `preview_control` (`planners.reference`). The height is held at
-the reference (a constant offset above the support) and the base orientation level.
+same piecewise-constant rule as `preview_control` (`planners.reference`). The height follows
+the reference (a constant offset above the support; `follow_height`) and the base orientation
+is level.
 
 To give the stabilizers the same kind of plan as `preview_control`, the planned resultant
 wrench [m x''; m z''; 0 moment about the CoM] goes through the same projection (eqs. 9-10);
@@ -63,6 +64,7 @@ class PreviewZmpPlanner:
         com = np.asarray(state.com_position_world, dtype=float)
         _, support_height = support_centre(scenario, 0.0)
         self.height = com[2] - support_height  # z_c of the cart-table
+        self.omega = float(np.sqrt(GRAVITY[2] / self.height))  # its natural frequency [1/s]
         gains = output_preview_gains(
             ((1.0, 0.0, -self.height / GRAVITY[2]),),
             (KAJITA["q"],),
@@ -96,11 +98,9 @@ class PreviewZmpPlanner:
 
         self.horizontal.advance(self.horizontal.jerk(self.window))
         x = self.horizontal.state
-        # vertical: follow the reference height (constant on flat ground); acceleration from
-        # the change of the reference over this period, velocity as its slope.
-        z_next = reference_now[2]
-        z_velocity = (z_next - self.height_state[0]) / self.dt
-        z_acceleration = (z_velocity - self.height_state[1]) / self.dt
+        z_next, z_velocity, z_acceleration = follow_height(
+            self.height_state, reference_now[2], self.omega, self.dt
+        )
         self.height_state = np.array([z_next, z_velocity])
         com = np.array([x[0, 0], x[1, 0], z_next])
         velocity = np.array([x[0, 1], x[1, 1], z_velocity])
@@ -155,3 +155,23 @@ register(
         "Kajita et al. 2003: ZMP preview control on the cart-table model",
     )
 )
+
+
+def follow_height(
+    state: np.ndarray, reference: float, omega: float, dt: float
+) -> tuple[float, float, float]:
+    """The planned CoM height after one period: (z [m], z' [m/s], z'' [m/s^2]) of a critically
+    damped follower of the reference height, z'' = omega^2 (z_ref - z) - 2 omega z', from
+    `state` = (z, z') (semi-implicit Euler over dt [s]).
+
+    Adaptation: Kajita's cart-table holds the height constant; our reference height is the
+    supporting soles' mean height plus a constant, which steps when the support changes. The
+    earlier rule differentiated it twice per period, so a step of 0.05 mm (JVRC-1's soles stand
+    0.1 mm apart) planned 12 m/s^2 down and up again: a planned vertical force below zero, a ZMP
+    of NaN, and the episode's end. Following at the cart-table's own omega plans 6e-4 m/s^2 for
+    that step. A constant reference equal to the height (the humanoid's walks) plans z'' = 0
+    exactly, as before."""
+    z, velocity = float(state[0]), float(state[1])
+    acceleration = omega * omega * (reference - z) - 2.0 * omega * velocity
+    velocity += acceleration * dt
+    return z + velocity * dt, velocity, acceleration

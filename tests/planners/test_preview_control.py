@@ -112,3 +112,22 @@ def test_walks_through_a_lateral_push_mid_single_support(run, direction):
         EpisodeSpec(*run, "walk_push", push_impulse=10.0, push_direction_deg=direction)
     ).summary
     assert summary["status"] == "ok", summary["error"] or summary["fall_reason"]
+
+
+def test_the_cart_tables_height_follows_a_stepping_reference_smoothly():
+    """`preview_zmp`'s height: JVRC-1's reference steps by 0.048 mm between its soles' supports;
+    the planned vertical acceleration stays below 1e-3 m/s^2 (the planned vertical force
+    within 0.01 % of m g; twice differentiating the step planned 12 m/s^2, a negative vertical
+    force), reaches the new height within 1 um in 2 s, and a reference equal to the height
+    plans exactly zero."""
+    from planners.preview_zmp import follow_height
+
+    omega, dt, step = float(np.sqrt(9.81 / 0.86)), 0.002, 4.8e-5
+    state, accelerations = np.array([0.86, 0.0]), []
+    for _ in range(1000):
+        z, velocity, acceleration = follow_height(state, 0.86 + step, omega, dt)
+        state = np.array([z, velocity])
+        accelerations.append(acceleration)
+    assert max(abs(a) for a in accelerations) < 1e-3
+    assert abs(state[0] - (0.86 + step)) < 1e-6
+    assert follow_height(np.array([0.86, 0.0]), 0.86, omega, dt) == (0.86, 0.0, 0.0)
