@@ -31,8 +31,11 @@ Starting and stopping, which the paper does not describe: before the first step 
 ZMP moves to the first swing foot for half a step period (a weight shift: the LIPM moves the
 reference CoM toward the support foot), and after the last step, which closes the feet side by
 side, the reference CoM returns to the feet's midpoint critically damped with rate omega.
-The number of steps is the gait command's stepping time (steps x its step period) times f_g,
-so that a walk lasts as long and (at the commanded speed) goes as far as the fixed schedule's.
+Standing, before the walk, the reference CoM starts at the robot's own CoM and returns to the
+midpoint the same way (a robot's nominal CoM need not be above the midpoint: JVRC-1's is
+19.8 mm behind it). The number of steps is the gait command's stepping time (steps x its step
+period) times f_g, so that a walk lasts as long and (at the commanded speed) goes as far as the
+fixed schedule's.
 """
 
 from __future__ import annotations
@@ -119,7 +122,7 @@ class FiveMassGaitPlanner:
         self.neutral = _neutral_offset(five.axes_world, com - middle)
         # standing: the reference CoM starts at the robot's own and settles onto the feet's
         # midpoint (`_return_to_middle`; a robot whose nominal posture has its CoM off the
-        # midpoint, as JVRC-1's half-sitting 19 mm behind it, is not asked to jump there)
+        # midpoint, as JVRC-1's half-sitting 19.8 mm behind it, is not asked to jump there)
         self.com_ref = np.array([com[0], com[1]])
         self.velocity_ref = np.zeros(2)
         self.zmp_ref = self.com_ref.copy()
@@ -178,7 +181,9 @@ class FiveMassGaitPlanner:
         the CoM toward the first swing foot, at the fraction beta of the way that leaves the
         reference CoM, after half a step period, with the lateral orbital energy
         v^2 - omega^2 d^2 about the first support that Kajita's walk primitive has at the start
-        of a step (so that the LIPM turns back before the support foot, as in steady walking)."""
+        of a step (so that the LIPM turns back before the support foot, as in steady walking).
+        The shift starts from the reference's state, which need not be at rest (a standing
+        return not yet settled)."""
         support_name = "right_foot" if self.first_swing == "left_foot" else "left_foot"
         support = self.feet[support_name].position[:2]
         swing = self.feet[self.first_swing].position[:2]
@@ -187,7 +192,7 @@ class FiveMassGaitPlanner:
 
         def energy(beta: float) -> float:
             zmp = self.com_ref + beta * (swing - self.com_ref)
-            x, v = lipm_state(self.com_ref, np.zeros(2), zmp, self.omega, self.period / 2)
+            x, v = lipm_state(self.com_ref, self.velocity_ref, zmp, self.omega, self.period / 2)
             lateral = (support - swing) / np.linalg.norm(support - swing)
             d = (x - support) @ lateral
             return float((v @ lateral) ** 2 - self.omega**2 * d**2 - target)
@@ -248,7 +253,8 @@ class FiveMassGaitPlanner:
         self.step_start_time = t
         self.zmp_ref = self.feet[self.support].position[:2].copy()
         if self.steps_done >= self.n_steps:
-            self.mode, self.mode_start = "stop", t
+            # the reference is already at t + dt (`_walk_period` advanced it): its time
+            self.mode, self.mode_start = "stop", t + self.dt
             self.stop_from = (self.com_ref.copy(), self.velocity_ref.copy())
             self.next = self.next_nominal = None
             return

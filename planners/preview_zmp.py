@@ -160,9 +160,9 @@ register(
 def follow_height(
     state: np.ndarray, reference: float, omega: float, dt: float
 ) -> tuple[float, float, float]:
-    """The planned CoM height after one period: (z [m], z' [m/s], z'' [m/s^2]) of a critically
-    damped follower of the reference height, z'' = omega^2 (z_ref - z) - 2 omega z', from
-    `state` = (z, z') (semi-implicit Euler over dt [s]).
+    """One period of a critically damped follower of the reference height, z'' = omega^2
+    (z_ref - z) - 2 omega z', from `state` = (z [m], z' [m/s]) by semi-implicit Euler over dt
+    [s]: (z, z') after the period and the z'' [m/s^2] applied over it.
 
     Adaptation: Kajita's cart-table holds the height constant; our reference height is the
     supporting soles' mean height plus a constant, which steps when the support changes. The

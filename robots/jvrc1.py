@@ -368,12 +368,14 @@ def level_soles(description: RobotDescription, tolerance_rad: float = 1e-12) -> 
 
     Adaptation: mc_rtc's half-sitting, with an upright pelvis, pitches both soles 0.010 rad
     toes-up (hip -0.38 + knee 0.72 + ankle -0.33 rad) and rolls the right one 0.019 rad (hip
-    roll -0.01, ankle roll -0.01; the left's 0.02 and -0.02 cancel). The robot then started
+    roll -0.01, ankle roll -0.01; the left's 0.02 and -0.02 nearly cancel). The robot then started
     with a sole corner up to 1.75 mm inside the ground, and every controller's first command,
     which holds the soles flat on the scenario's level footholds, turned both ankles at once:
     the feet carried up to 2.4 m g in the first periods (Murooka's controllers, MuJoCo; the
     humanoid 1.1 m g). The change: -0.010 rad of ankle pitch on each foot, +0.020 rad of ankle
-    roll on the right one; the CoM moves 1.0 mm back and 0.2 mm down."""
+    roll on the right one (+0.0003 on the left); the CoM moves 1.0 mm back, 0.9 mm right and
+    0.3 mm down; the soles' centres stand 0.1 mm apart in height (the hips' rolls differ), the
+    lower one on the ground."""
     from robots.model import RobotModel
     from robots.types import RobotState
 
