@@ -477,6 +477,7 @@ def test_the_main_job_is_every_controller_on_each_protocol_it_can_run():
         "walking_pushes",
         "jvrc1_walking_pushes",
         "standing_pushes",
+        "jvrc1_standing_pushes",
     ]
     episodes = spec.episodes()
     registered, sims = set(CONTROLLERS), {"mujoco", "pybullet"}
@@ -485,6 +486,7 @@ def test_the_main_job_is_every_controller_on_each_protocol_it_can_run():
         "walks": (registered, 1),
         "standing_pushes": (registered, 20),
         "walking_pushes": (registered, 20),
+        "jvrc1_standing_pushes": (registered, 20),
         "jvrc1_walking_pushes": (registered, 20),
         "motions": (registered, 3),
         "reaching": (registered | {"capturability_hierarchy"}, 2),
@@ -506,6 +508,7 @@ def test_the_main_job_is_every_controller_on_each_protocol_it_can_run():
     for name, phase in (
         ("standing_pushes", "standing"),
         ("walking_pushes", "walking"),
+        ("jvrc1_standing_pushes", "standing"),
         ("jvrc1_walking_pushes", "walking"),
     ):
         pushes = by[name]
