@@ -67,7 +67,7 @@ def test_a_15_ns_walking_push_to_the_left_is_survived_by_stepping_elsewhere(walk
 def test_it_stands_on_jvrc1_whose_com_is_off_the_feet_midpoint(sim):
     """JVRC-1's half-sitting CoM is 19.8 mm behind its feet's midpoint; the reference starts
     there and settles (`five_mass_gait`). Before, the reference stepped to the midpoint at
-    t = 0 and the robot fell at 0.55 s (measured, both simulators within 0.1 s). Standing 3 s:
+    t = 0 and the robot fell (at 0.55 s in MuJoCo; this test failed in both). Standing 3 s:
     no fall, and the ground-truth CoM within 5 mm of the plan's throughout (measured 1.0 / 0.9
     mm RMS, MuJoCo / PyBullet)."""
     result = _run(WALKING, sim, "stand", duration=3.0, robot="jvrc1")

@@ -141,7 +141,8 @@ def test_standing_the_reference_starts_at_the_robots_com_and_settles_on_the_feet
     assert np.linalg.norm(com[0] - start) < 0.02 * np.linalg.norm(middle - start)  # one period
     assert np.abs(np.diff(com, axis=0)).max() < 0.1 * DT  # below 0.1 m/s
     assert np.linalg.norm(com[-1] - middle) < 1e-4
-    # the soles side by side, level, unturned: their rectangles' hull is an axis-aligned box
+    # the soles side by side and level, yawed by under 0.02 rad: the axis-aligned box of their
+    # rectangles overstates their hull by under 1.5 mm, against a ZMP 60 mm inside it
     soles = plan.limb_target_position_world[feet, :2]
     half = np.array(jvrc.robot.limbs[feet[0]].half_extents)
     assert np.all(zmp >= soles.min(axis=0) - half)
