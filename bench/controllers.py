@@ -59,7 +59,7 @@ class ControllerSpec:
 CONTROLLERS: dict[str, ControllerSpec] = {
     spec.name: spec
     for spec in (
-        ControllerSpec("hold", "posture", "baseline: constant CoM above the support, posture PD"),
+        ControllerSpec("hold", "posture", "baseline: CoM settling above the support, posture PD"),
         ControllerSpec(
             "preview_control",
             "centroidal_feedback",

@@ -37,6 +37,31 @@ def lipm_state(
     return zmp + offset * c + velocity0 / omega * s, offset * omega * s + velocity0 * c
 
 
+def critically_damped(
+    x0: np.ndarray | float,
+    velocity0: np.ndarray | float,
+    target: np.ndarray | float,
+    omega: float,
+    t: float,
+) -> tuple[np.ndarray | float, np.ndarray | float, np.ndarray | float]:
+    """(x(t), x'(t), x''(t)) of the critically damped approach x'' = omega^2 (target - x) -
+    2 omega x' from (x0 [m], x0' [m/s]) at t = 0, in closed form:
+
+        x(t) = target + (d + (x0' + omega d) t) e^(-omega t),   d = x0 - target;
+
+    works per axis on arrays. Not a paper's equation: the frameworks' planners use it to bring
+    a reference CoM that starts at the robot's own CoM onto their nominal point. With omega
+    the LIP's and x0' = 0, the ZMP x - x'' / omega^2 it implies starts at x0 + d (as far beyond
+    the start as the start is from the target) and moves monotonically onto the target."""
+    decay = math.exp(-omega * t)
+    offset = x0 - target
+    slope = velocity0 + omega * offset
+    position = target + (offset + slope * t) * decay
+    velocity = (slope - omega * (offset + slope * t)) * decay
+    acceleration = (-2 * omega * slope + omega**2 * (offset + slope * t)) * decay
+    return position, velocity, acceleration
+
+
 def leaky_alpha(rate_hz: float) -> float:
     """The decay factor alpha of eq. 9 at `rate_hz` that keeps the paper's half-life in
     seconds: the paper's 0.03 per period at 100 Hz halves x_i in ln 2 / -ln(1 - 0.03) = 22.8

@@ -48,6 +48,7 @@ import numpy as np
 from scipy.optimize import brentq
 
 from centroidal.lipm import (
+    critically_damped,
     gait_frequency,
     lipm_state,
     modified_foot_placement,
@@ -267,12 +268,9 @@ class FiveMassGaitPlanner:
         middle = (self.feet["left_foot"].position[:2] + self.feet["right_foot"].position[:2]) / 2
         x0, v0 = self.stop_from
         tau = t + self.dt - self.mode_start
-        decay = math.exp(-self.omega * tau)
-        offset = x0 - middle
-        slope = v0 + self.omega * offset
-        self.com_ref = middle + (offset + slope * tau) * decay
-        self.velocity_ref = (slope - self.omega * (offset + slope * tau)) * decay
-        acceleration = (-2 * self.omega * slope + self.omega**2 * (offset + slope * tau)) * decay
+        self.com_ref, self.velocity_ref, acceleration = critically_damped(
+            x0, v0, middle, self.omega, tau
+        )
         self.zmp_ref = self.com_ref - acceleration / self.omega**2
 
     # ---- footsteps --------------------------------------------------------------------------
@@ -394,7 +392,7 @@ class FiveMassGaitPlanner:
         tilt = com - feet_middle
         axes = tilt_and_yaw(tilt / np.linalg.norm(tilt), heading) @ self.neutral
         wrench = np.zeros(6)
-        wrench[:3] = self.mass * (acceleration + np.array([0.0, 0.0, GRAVITY]))
+        wrench[:3] = self.mass * acceleration  # the resultant w-bar = m c'' (gravity apart)
         return CentroidalPlan(
             com_reference_world=com,
             com_planned_world=com,

@@ -9,6 +9,7 @@ from scipy.optimize import minimize_scalar
 
 from centroidal.lipm import (
     PAPER_LEAKY_ALPHA,
+    critically_damped,
     gait_frequency,
     half_life_s,
     leaky_alpha,
@@ -34,6 +35,41 @@ def test_closed_form_equals_a_numerical_integration_of_eq_1(x0, v0, zmp):
     x, v = lipm_state(x0, v0, zmp, omega, duration)
     assert x == pytest.approx(numeric.y[0, -1], abs=1e-9)
     assert v == pytest.approx(numeric.y[1, -1], abs=1e-9)
+
+
+@pytest.mark.parametrize(("x0", "v0", "target"), [(0.02, 0.0, 0.0), (-0.01, 0.3, 0.005)])
+def test_the_critically_damped_approach_equals_a_numerical_integration(x0, v0, target):
+    """x'' = omega^2 (target - x) - 2 omega x', integrated numerically: position, velocity and
+    acceleration at 0.1-1.5 s; it starts at (x0, x0') and is at the target after 8 s."""
+    omega = math.sqrt(9.81 / 0.8)
+    times = np.array([0.1, 0.4, 1.5])
+    numeric = solve_ivp(
+        lambda t, s: [s[1], omega**2 * (target - s[0]) - 2 * omega * s[1]],
+        (0, times[-1]),
+        [x0, v0],
+        t_eval=times,
+        rtol=1e-12,
+        atol=1e-14,
+    )
+    for k, t in enumerate(times):
+        x, v, a = critically_damped(x0, v0, target, omega, t)
+        assert x == pytest.approx(numeric.y[0, k], abs=1e-9)
+        assert v == pytest.approx(numeric.y[1, k], abs=1e-9)
+        assert a == pytest.approx(omega**2 * (target - x) - 2 * omega * v, abs=1e-9)
+    assert critically_damped(x0, v0, target, omega, 0.0)[:2] == pytest.approx((x0, v0))
+    assert critically_damped(x0, v0, target, omega, 8.0)[0] == pytest.approx(target, abs=1e-9)
+
+
+def test_from_rest_the_approachs_lip_zmp_starts_mirrored_and_moves_to_the_target():
+    """Starting at rest at x0 = target + d, the LIP's ZMP x - x'' / omega^2 of the approach
+    starts at target + 2 d (as far beyond the start as the start is from the target: the CoP
+    that pushes the CoM toward it) and moves monotonically onto the target."""
+    omega = math.sqrt(9.81 / 0.8)
+    approach = [critically_damped(-0.02, 0.0, 0.0, omega, t) for t in np.linspace(0, 3, 3001)]
+    zmp = np.array([x - a / omega**2 for x, _, a in approach])
+    assert zmp[0] == pytest.approx(-0.04, abs=1e-12)
+    assert np.all(np.diff(zmp) > 0)
+    assert zmp[-1] <= 0.0
 
 
 def test_the_leaky_integrator_keeps_the_papers_half_life_in_seconds():
