@@ -6,7 +6,10 @@ Horizontal axes: state [x, x', x''], input the jerk, output the ZMP p = x - (z_c
 (cart-table with a constant CoM height z_c); cost sum Q (p - p_ref)^2 + R u^2 with Kajita's
 weights Q = 1, R = 1e-6, discretised at 5 ms with a 2 s preview (Kajita uses 1.6 s; 2 s as in
 Table I, so both planners see the same future). The ZMP reference is the support centre, by the
-same piecewise-constant rule as `preview_control` (`planners.reference`). The height follows
+same piecewise-constant rule as `preview_control` (`planners.reference`), with each supporting
+sole's point moved 2 cm toward the body's midline, as the authors' own implementation of this
+baseline does (`zmp_reference`; in double support on parallel feet the two shifts cancel). The
+height follows
 the reference (a constant offset above the support; `follow_height`) and the base orientation
 is level.
 
@@ -24,7 +27,7 @@ import numpy as np
 
 from centroidal.preview import TripleIntegratorPreview, output_preview_gains
 from centroidal.projection import DEFAULT_BACKEND, GRAVITY, WrenchProjector, project_resultant
-from centroidal.rotations import IDENTITY_WXYZ, from_matrix, heading_quaternion
+from centroidal.rotations import IDENTITY_WXYZ, from_matrix, heading_quaternion, to_matrix
 from centroidal.wrench import zmp_on_plane
 from planners.base import PlannerSpec, register
 from planners.reference import (
@@ -45,6 +48,51 @@ from robots.scene import Scenario
 from robots.types import CentroidalPlan, RobotState
 
 KAJITA = {"q": 1.0, "r": 1e-6, "dtau": 0.005, "horizon": 400}
+BWC_ZMP_OFFSET_INWARD_M = 0.02
+"""Murooka's BaselineWalkingController (isri-aist/BaselineWalkingController, the authors'
+implementation of ZMP preview control with DCM feedback, the Appendix's baseline):
+`FootManager.zmpOffset: [0, -0.02, 0]` "(positive for x-forward, y-outside)" in
+etc/BaselineWalkingController.in.yaml, its default, for JVRC-1 and HRP-5P (HRP-2Kai: 0.03)."""
+
+
+def zmp_reference(
+    scenario: Scenario,
+    dtau: float,
+    n_samples: int,
+    height_offset: float,
+    inward_m: float = BWC_ZMP_OFFSET_INWARD_M,
+) -> np.ndarray:
+    """The ZMP reference (n_samples, 3) [m] at times 0, dtau, ...: `com_reference`'s support
+    centre (its third column the CoM height reference), with each supporting foot's point moved
+    `inward_m` [m] along its sole's y axis toward the midline (left foot -y, right foot +y in
+    the sole frame) before the mean, as the BaselineWalkingController's `calcZmpWithOffset`.
+
+    Adaptation (not in Kajita et al., whose reference is the sole centre; taken from the
+    authors' implementation of this baseline, `BWC_ZMP_OFFSET_INWARD_M`): measured on JVRC-1
+    (stance 0.213 m, soles 0.08 m wide) in PyBullet at 4268572, the sole-centre reference left
+    the DCM 20-27 mm outside its plan at every single support, the command ZMP saturated at the
+    sole's outer edge and the walk fell at 8.72 s."""
+    reference = com_reference(scenario, dtau, n_samples, height_offset)
+    if inward_m == 0.0:
+        return reference
+    by_phase: dict[int, np.ndarray] = {}
+    for i in range(n_samples):
+        phase = scenario.phase_at(i * dtau)
+        if id(phase) not in by_phase:
+            by_phase[id(phase)] = _inward_shift(phase.contacts, inward_m)
+        reference[i, :2] += by_phase[id(phase)]
+    return reference
+
+
+def _inward_shift(contacts, inward_m: float) -> np.ndarray:
+    """Mean horizontal shift (2,) [m] of the supporting feet's points toward the midline (zero
+    with no foot in contact: the reference holds its phase's centre)."""
+    shifts = [
+        to_matrix(c.orientation_world)[:2, 1] * (-inward_m if c.limb == "left_foot" else inward_m)
+        for c in contacts
+        if c.limb in ("left_foot", "right_foot")
+    ]
+    return np.mean(shifts, axis=0) if shifts else np.zeros(2)
 
 
 class PreviewZmpPlanner:
@@ -76,7 +124,7 @@ class PreviewZmpPlanner:
         self.horizontal.state[:, 0] = com[:2]
         self.horizontal.state[:, 1] = np.asarray(state.com_velocity_world)[:2]
         n_samples = int(np.ceil(scenario.duration / self.dtau)) + self.horizon + 2
-        self.reference = com_reference(scenario, self.dtau, n_samples, self.height)
+        self.reference = zmp_reference(scenario, self.dtau, n_samples, self.height)
         self.window = np.zeros((self.horizon, 2, 1))
         self.limbs = description.limbs
         # a turning walk: the base heading follows the feet (`planners.reference`)

@@ -103,6 +103,37 @@ def test_reference_follows_the_contact_sequence():
         np.testing.assert_allclose(centre, feet[:, :2].mean(axis=0))
 
 
+def test_the_zmp_previews_reference_is_2_cm_inward_of_the_support_soles():
+    """`zmp_reference` (the BaselineWalkingController's `zmpOffset`): in every single support
+    of `walk` the reference is the supporting sole's centre moved 2 cm toward the midline
+    (inside the sole, whose half-width is 6 cm); in double support on parallel feet it is the
+    feet's midpoint, as `com_reference`; the height column is `com_reference`'s."""
+    from planners.preview_zmp import BWC_ZMP_OFFSET_INWARD_M, zmp_reference
+
+    model = RobotModel(humanoid())
+    scenario = make_scenario("walk", model)
+    n_samples = int(scenario.duration / 0.005) + 10
+    shifted = zmp_reference(scenario, 0.005, n_samples, 0.8)
+    plain = com_reference(scenario, 0.005, n_samples, 0.8)
+    np.testing.assert_array_equal(shifted[:, 2], plain[:, 2])
+    singles = doubles = 0
+    for phase in scenario.phases:
+        i = round((phase.start + phase.end) / 2 / 0.005)
+        feet = [c for c in phase.contacts if c.limb.endswith("foot")]
+        if len(feet) == 1:
+            singles += 1
+            inward = -1.0 if feet[0].limb == "left_foot" else 1.0
+            expected = np.asarray(feet[0].position_world[:2]) + np.array([0.0, inward * 0.02])
+            np.testing.assert_allclose(shifted[i, :2], expected, atol=1e-12)
+            assert abs(shifted[i, 1] - feet[0].position_world[1]) < 0.06
+        else:
+            doubles += 1
+            np.testing.assert_allclose(shifted[i, :2], plain[i, :2], atol=1e-12)
+    assert BWC_ZMP_OFFSET_INWARD_M == 0.02
+    assert singles == 10
+    assert doubles >= 10
+
+
 @pytest.mark.slow
 @pytest.mark.parametrize("run", RUNS, ids=RUN_IDS)
 @pytest.mark.parametrize("direction", [90.0, 270.0])
