@@ -44,12 +44,13 @@ def critically_damped(
     omega: float,
     t: float,
 ) -> tuple[np.ndarray | float, np.ndarray | float, np.ndarray | float]:
-    """(x(t), x'(t), x''(t)) of the critically damped approach x'' = omega^2 (target - x) -
-    2 omega x' from (x0 [m], x0' [m/s]) at t = 0, in closed form:
+    """(x(t) [m], x'(t) [m/s], x''(t) [m/s^2]) of the critically damped approach x'' = omega^2
+    (target - x) - 2 omega x' to `target` [m] at rate omega [1/s], from (x0 [m], x0' [m/s]) at
+    t = 0, t [s], in closed form:
 
         x(t) = target + (d + (x0' + omega d) t) e^(-omega t),   d = x0 - target;
 
-    works per axis on arrays. Not a paper's equation: the frameworks' planners use it to bring
+    works per axis on arrays. Not a paper's equation: the framework's planners use it to bring
     a reference CoM that starts at the robot's own CoM onto their nominal point. With omega
     the LIP's and x0' = 0, the ZMP x - x'' / omega^2 it implies starts at x0 + d (as far beyond
     the start as the start is from the target) and moves monotonically onto the target."""

@@ -727,8 +727,10 @@ class CapturabilityHierarchyPlanner:
                     limb_position[self.limb_names.index(foot)] = footsteps[-1].position_world
                 foot = other_foot(foot)
                 touchdown += self.schedule.period_s
-        wrench = np.zeros(6)  # the resultant w-bar (gravity apart, as every planner's); its
-        wrench[:3] = wrenches[:, :3].sum(axis=0) - [0.0, 0.0, self.weight]  # moment: for the record
+        # the resultant w-bar, gravity apart as every planner's (`CentroidalPlan`): the contact
+        # forces' sum less the weight; its moment is left at zero (for the record only)
+        wrench = np.zeros(6)
+        wrench[:3] = wrenches[:, :3].sum(axis=0) - [0.0, 0.0, self.weight]
         return CentroidalPlan(
             com_reference_world=com.copy(),
             com_planned_world=com.copy(),

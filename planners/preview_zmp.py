@@ -44,7 +44,7 @@ from robots.limbs import (
     scheduled_footsteps,
 )
 from robots.model import RobotModel
-from robots.scene import Scenario
+from robots.scene import Contact, Scenario
 from robots.types import CentroidalPlan, RobotState
 
 KAJITA = {"q": 1.0, "r": 1e-6, "dtau": 0.005, "horizon": 400}
@@ -76,21 +76,27 @@ def zmp_reference(
     if inward_m == 0.0:
         return reference
     by_phase: dict[int, np.ndarray] = {}
-    for i in range(n_samples):
+    shift = np.zeros(2)  # a phase without contacts keeps the last supported phase's shift,
+    for i in range(n_samples):  # as `support_centre` keeps its centre
         phase = scenario.phase_at(i * dtau)
         if id(phase) not in by_phase:
-            by_phase[id(phase)] = _inward_shift(phase.contacts, inward_m)
-        reference[i, :2] += by_phase[id(phase)]
+            by_phase[id(phase)] = (
+                _inward_shift(phase.contacts, inward_m) if phase.contacts else shift
+            )
+        shift = by_phase[id(phase)]
+        reference[i, :2] += shift
     return reference
 
 
-def _inward_shift(contacts, inward_m: float) -> np.ndarray:
-    """Mean horizontal shift (2,) [m] of the supporting feet's points toward the midline (zero
-    with no foot in contact: the reference holds its phase's centre)."""
+def _inward_shift(contacts: tuple[Contact, ...], inward_m: float) -> np.ndarray:
+    """Mean horizontal shift (2,) [m] of the supporting feet's points toward the midline, each
+    along its sole's y axis (left feet -y, right feet +y); zero with no foot in contact (hands
+    only: `support_centre`'s hands' centre unchanged)."""
     shifts = [
-        to_matrix(c.orientation_world)[:2, 1] * (-inward_m if c.limb == "left_foot" else inward_m)
+        to_matrix(c.orientation_world)[:2, 1]
+        * (-inward_m if c.limb.startswith("left") else inward_m)
         for c in contacts
-        if c.limb in ("left_foot", "right_foot")
+        if c.limb.endswith("foot")
     ]
     return np.mean(shifts, axis=0) if shifts else np.zeros(2)
 

@@ -182,7 +182,9 @@ class CentroidalPlan:
     com_velocity_planned_world [m/s], com_acceleration_planned_world [m/s^2]: the planned
     state r^p; base_orientation_planned_world (w, x, y, z) and base_angular_velocity_planned
     _world [rad/s]; wrench_planned_world (6,): planned resultant force [N] and moment about the
-    CoM [N m] before projection (w-bar^p), wrench_projected_world (6,) after projection onto the
+    CoM [N m] before projection (w-bar^p = [m c''; L'], gravity apart: the contact wrenches
+    carry w-bar + [m g; c x m g], Murooka eqs. 9-10, for every planner), wrench_projected_world
+    (6,) after projection onto the
     contact constraints (w-bar^p'); zmp_planned_world (3,) [m] from the projected wrench;
     contact_limbs: names of the limbs in contact; limb_target_position_world /
     limb_target_orientation_world: per limb, where it should be (contact pose or swing
