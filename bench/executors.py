@@ -86,6 +86,14 @@ class EpisodeTimeout(RuntimeError):
             where += f" ({location})"
         super().__init__(f"no result within the wall-clock budget of {budget_s:.0f} s: {where}")
 
+    def __reduce__(self):
+        """Pickle by the constructor's arguments, not the message: a branched episode's timeout
+        crosses a process boundary inside its pool worker's result, and the default (the
+        class called with the message) put the message where the budget goes and failed to
+        unpickle, which ended the whole sweep (found 2026-11-27 with the hierarchy's walking
+        pushes: 20 rows lost and "Unknown format code 'f'")."""
+        return (type(self), (self.budget_s, self.stage, self.sim_time_s, self.location))
+
 
 class Executor(Protocol):
     def map_unordered(
@@ -392,6 +400,11 @@ class LocalExecutor:
             message = worker.conn.recv()
         except (EOFError, OSError):
             return _NOTHING
+        except Exception as exc:  # a reply that does not unpickle here: the task's error row,
+            if worker.task is None:  # never the sweep's end (a worker has one task at a time)
+                return _NOTHING
+            what = f"{type(exc).__name__}: {exc}"
+            return RuntimeError(f"the worker's result could not be read: {what}")
         if message is None:
             worker.ready = True
             return _NOTHING

@@ -5,6 +5,7 @@ with branching writes the rows of one without."""
 from __future__ import annotations
 
 import os
+import pickle
 import signal
 from dataclasses import replace
 from pathlib import Path
@@ -73,12 +74,19 @@ def test_branched_episodes_are_the_episodes_run_alone_bit_for_bit(sim, scenario)
 def test_a_branch_over_its_budget_ends_alone_as_a_timeout():
     """The second episode's budget is 1 ms, less than its common part took: its branch is
     ended and becomes an `EpisodeTimeout` that says where it was (at the push); the others
-    finish as alone."""
+    finish as alone. The group's results cross to the sweep's process pickled, as a pool
+    worker returns them: the timeout arrives whole (it did not unpickle before 2026-11-27, and
+    the sweep ended in a ValueError with the group's rows lost)."""
     specs = _pushes("mujoco")
     progress = [0.0, 0.0]
-    results = run_group(specs, progress, budgets_s=[600.0, 0.001, 600.0])
+    results = pickle.loads(
+        pickle.dumps(run_group(specs, progress, budgets_s=[600.0, 0.001, 600.0]))
+    )
     timeout = results[1]
     assert isinstance(timeout, EpisodeTimeout)
+    assert isinstance(timeout.budget_s, float)
+    assert timeout.budget_s < 0.001  # its budget less the common part it shared
+    assert timeout.stage is not None
     assert timeout.sim_time_s is not None
     assert timeout.sim_time_s >= 1.5 - 1e-9  # it was forked at the push
     for k in (0, 2):

@@ -124,6 +124,23 @@ def death_signal_work(_item) -> int:
     return parent_death_signal()
 
 
+class _Unreadable:
+    """Pickles in a worker and fails to unpickle in the parent (as `EpisodeTimeout` did
+    before 2026-11-27)."""
+
+    def __reduce__(self):
+        return (_fail_to_unpickle, ("the message",))
+
+
+def _fail_to_unpickle(text: str):
+    return f"{text:.0f}"  # ValueError: Unknown format code 'f' for object of type 'str'
+
+
+def unreadable_work(item: int):
+    """Item 1's result cannot be read by the parent; the others return themselves."""
+    return _Unreadable() if item == 1 else item
+
+
 # ------------------------------------------------------------------------------- tests
 
 
@@ -458,6 +475,25 @@ def _hung(pid: int) -> bool:
         return False
     ticks = int(fields[11]) + int(fields[12])  # utime + stime
     return fields[0] == "R" and ticks > 3 * os.sysconf("SC_CLK_TCK")
+
+
+def test_a_result_that_cannot_be_read_is_that_items_error_and_the_rest_arrive():
+    """A worker's reply that fails to unpickle in the parent becomes that item's
+    RuntimeError, naming the error; the other items' results arrive and the executor keeps
+    going (before 2026-11-27 the ValueError ended the sweep, and the CLI took it for a usage
+    error)."""
+    from bench.executors import LocalExecutor
+
+    executor = LocalExecutor(workers=1)
+    try:
+        results = dict(executor.map_unordered(unreadable_work, [0, 1, 2]))
+    finally:
+        executor.close()
+    assert results[0] == 0
+    assert results[2] == 2
+    assert isinstance(results[1], RuntimeError)
+    assert "could not be read" in str(results[1])
+    assert "Unknown format code" in str(results[1])
 
 
 def test_workers_get_sigkill_when_their_parent_dies():
