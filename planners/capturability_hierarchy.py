@@ -143,6 +143,12 @@ class Layout:
         return self.nv + 16 + 2 * self.samples + 2 * self.steps
 
 
+def _per_row(value, m: int) -> np.ndarray:
+    """A bound given as a scalar or per row, as an (m,) float array."""
+    value = np.asarray(value, dtype=float)
+    return np.full(m, float(value)) if value.ndim == 0 else value.reshape(m)
+
+
 class _Rows:
     """Rows of one level: lower <= A x <= upper, appended block by block."""
 
@@ -161,19 +167,23 @@ class _Rows:
         rowwise: bool = False,
     ) -> None:
         a = np.atleast_2d(a)
-        self.names.extend([name] * a.shape[0])
-        lower = np.broadcast_to(np.asarray(lower, dtype=float), a.shape[:1])
-        upper = np.broadcast_to(np.asarray(upper, dtype=float), a.shape[:1])
+        m = a.shape[0]
+        self.names.extend([name] * m)
+        lower = _per_row(lower, m)
+        upper = _per_row(upper, m)
         # each block scaled to a largest row norm of one, then weighted: the rows' norms
         # within a level stay near the weights' ratio (DAQP's accuracy and speed fall with
         # that ratio: centroidal.hierarchy); a block keeps its rows' relative weights
         # (`rowwise`: every row to unit norm, for blocks whose rows' norms span decades)
-        norms = np.linalg.norm(a, axis=1) if a.size else np.zeros(len(a))
-        if not rowwise:
-            norms = np.full(len(a), norms.max() if len(a) else 0.0)
-        norms[norms == 0.0] = 1.0
-        scale = math.sqrt(weight) / norms
-        self.blocks.append((a * scale[:, None], lower * scale, upper * scale))
+        if rowwise:
+            norms = np.sqrt(np.einsum("ij,ij->i", a, a))
+            norms[norms == 0.0] = 1.0
+            scale = math.sqrt(weight) / norms
+            self.blocks.append((a * scale[:, None], lower * scale, upper * scale))
+            return
+        largest = math.sqrt(float(np.einsum("ij,ij->i", a, a).max())) if a.size else 0.0
+        scale = math.sqrt(weight) / (largest if largest > 0.0 else 1.0)
+        self.blocks.append((a * scale, lower * scale, upper * scale))
 
     def equal(
         self, a: np.ndarray, value, weight: float = 1.0, name: str = "", rowwise: bool = False

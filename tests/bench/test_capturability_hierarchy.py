@@ -44,12 +44,13 @@ def test_a_15_ns_lateral_push_while_standing_makes_it_step_and_stay_up(sim):
 
 
 def test_the_solver_works_harder_at_contact_switches():
-    """The paper's Fig. 2: "most of the time the solver does only one iteration due to
-    successful guess of the active set. The number of iterations increases during transition
-    between the left and right supports." Here (DAQP hot-started from the last period's active
-    set, MuJoCo, the 15 N s push): more active-set iterations within 20 ms of a lift-off or
-    touchdown than elsewhere (measured 49 vs 19 on average; 5.5 while standing before the
-    push), and the statistics are in the summary beside the solve time."""
+    """The paper's Fig. 2: "most of the time solver does only one iteration due to successful
+    guess of the active set. The number of iterations increases during transition between the
+    left and right supports." Here (DAQP hot-started from the last period's active set,
+    MuJoCo, the 15 N s push): one iteration in most periods (measured 95 %), periods of more
+    than one iteration more frequent within 20 ms of a lift-off or touchdown than elsewhere
+    (measured 11 % vs 4 %) and than while standing before the push (none), and the statistics
+    are in the summary beside the solve time."""
     result = _run("mujoco", "stand_push", duration=4.5, push_impulse=15.0, push_direction_deg=90.0)
     summary = result.summary
     assert summary["status"] == "ok"
@@ -58,10 +59,12 @@ def test_the_solver_works_harder_at_contact_switches():
     assert summary["latency_us"]["hierarchy"]["mean"] > 0
     trace, steps = result.trace, result.footsteps
     iterations, time = trace["solver_iterations"].to_numpy(), trace["time"].to_numpy()
+    assert np.mean(iterations == 1) > 0.5
     switches = np.concatenate([steps["liftoff_time_s"], steps["touchdown_time_s"]])
     near = np.min(np.abs(time[:, None] - switches[None, :]), axis=1) < 0.02
-    assert iterations[near].mean() > 1.5 * iterations[~near].mean()
-    assert iterations[time < 2.0].mean() < iterations[~near].mean()
+    more = iterations > 1
+    assert more[near].mean() > 1.5 * more[~near].mean()
+    assert more[time < 2.0].mean() < more[~near].mean()
 
 
 @pytest.mark.parametrize("sim", SIMS)

@@ -1,8 +1,10 @@
-"""Sherikov et al.'s hierarchy (three levels, 78 variables) solved at a contact switch: the
+"""Sherikov et al.'s hierarchy (three levels, 78 variables) solved at a contact switch (the
 first period of single support after standing (the paper: "the number of iterations increases
-during transition between the left and right supports"), by the controller's DAQP backend and
-by the reference cascade of QPs in the same run; compare with the paper's 0.92 ms mean solve
-(i5-3360M) as a ratio to the cascade here, not as an absolute figure."""
+during transition between the left and right supports"), by the controller's DAQP backend (one
+QP when levels 1-2 can be met, as here), by DAQP's hierarchical mode level by level (the
+backend's path when they cannot) and by the reference cascade of QPs in the same run; compare
+with the paper's 0.92 ms mean solve (i5-3360M) as a ratio to the cascade here, not as an
+absolute figure."""
 
 from dataclasses import replace
 
@@ -11,6 +13,7 @@ import pytest
 
 import planners.capturability_hierarchy as module
 from bench.scenarios import make_scenario
+from centroidal import hierarchy
 from centroidal.hierarchy import solve_hierarchy
 from robots.humanoid import humanoid
 from robots.model import RobotModel
@@ -20,7 +23,9 @@ SWITCH = 1.0  # [s] the first step's lift-off
 
 @pytest.fixture(scope="module")
 def switch():
-    """The hierarchy of the period at the switch and the active set of the period before."""
+    """The hierarchies of the period before the switch (levels 1-2 met: one QP) and of the
+    period at the switch (level 2 not met: DAQP level by level), with the active set of the
+    period before the switch."""
     model = RobotModel(humanoid())
     state = model.standing_state()
     state = replace(
@@ -43,17 +48,31 @@ def switch():
         planner.plan(SWITCH, state)
     finally:
         module.solve_hierarchy = original
-    levels, n = captured[-1]
-    return levels, n, before
+    return {"before": (*captured[-2], None), "switch": (*captured[-1], before)}
 
 
 @pytest.mark.benchmark(group="hierarchy-solve")
-@pytest.mark.parametrize("solver", ["daqp", "cascade"])
-def test_hierarchy_solve_at_a_contact_switch(benchmark, switch, solver):
-    levels, n, _ = switch
+@pytest.mark.parametrize(
+    ("period", "path"),
+    [
+        ("before", "daqp"),
+        ("before", "daqp_by_level"),
+        ("before", "cascade"),
+        ("switch", "daqp_by_level"),
+        ("switch", "cascade"),
+    ],
+)
+def test_hierarchy_solve_at_a_contact_switch(benchmark, switch, period, path, monkeypatch):
+    levels, n, _ = switch[period]
     reference = solve_hierarchy(levels, n, solver="cascade")
-    rounds = 30 if solver == "daqp" else 10
+    if path == "daqp_by_level":
+        monkeypatch.setattr(hierarchy, "_solve_single_qp", lambda *args: None)
+    solver = "cascade" if path == "cascade" else "daqp"
+    rounds = 10 if solver == "cascade" else 30
     solution = benchmark.pedantic(
         solve_hierarchy, args=(levels, n), kwargs={"solver": solver}, rounds=rounds, iterations=1
     )
+    assert solution.single_qp == (path == "daqp")
     np.testing.assert_allclose(solution.violation_norm, reference.violation_norm, rtol=0, atol=1e-6)
+    if period == "switch":  # the capture point cannot be met at once: level by level
+        assert not solve_hierarchy(levels, n).single_qp

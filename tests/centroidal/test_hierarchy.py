@@ -4,6 +4,7 @@ cascade on controller-size problems, hand-solved examples, warm start and bad in
 import numpy as np
 import pytest
 
+from centroidal import hierarchy
 from centroidal.hierarchy import SOLVERS, HierarchyError, Level, solve_hierarchy
 
 N = 85  # the controller's variable count
@@ -86,6 +87,7 @@ def test_daqp_equals_cascade_on_controller_size(seed, feasible):
     cascade = solve_hierarchy(levels, N, solver="cascade")
     assert daqp.exitflag in (1, 2)
     assert daqp.polished  # the exact active-set polish was kept
+    assert daqp.single_qp == feasible  # one QP when levels 1-2 can be met, else level by level
     np.testing.assert_allclose(daqp.violation_norm, cascade.violation_norm, rtol=0, atol=1e-6)
     np.testing.assert_allclose(daqp.x, cascade.x, rtol=0, atol=1e-6)
     for solution in (daqp, cascade):
@@ -178,8 +180,34 @@ def test_daqp_equals_cascade_when_the_tie_break_decides(seed):
         np.testing.assert_allclose(daqp.x, cascade.x, atol=1e-6)
     plain = solve_hierarchy(levels, 30)
     weighted = solve_hierarchy(levels, 30, regularization=hess)
+    for solution in (plain, weighted):  # one QP, its tie-break polished exact
+        assert solution.single_qp
+        assert solution.polished
     assert np.abs(plain.x - weighted.x).max() > 1e-3  # the tie-break really chose x
     assert weighted.x @ hess @ weighted.x < plain.x @ hess @ plain.x
+
+
+@pytest.mark.parametrize("last_equalities_only", [False, True])
+@pytest.mark.parametrize("seed", [8, 9])
+def test_one_qp_equals_the_level_by_level_solve(seed, last_equalities_only, monkeypatch):
+    """When levels 1-2 can be met exactly, the one QP (the last level as its cost) and DAQP's
+    hierarchical mode give the same x; the one QP is taken without being forced."""
+    levels = controller_levels(seed, feasible=True)
+    if last_equalities_only:  # the controller's case: level 3 is objectives only
+        third = levels[2]
+        rng = np.random.default_rng(1000 + seed)  # not controller_levels' draws
+        target = third.a[:60] @ rng.normal(size=N)  # not met: level 3 is infeasible
+        levels[2] = Level(third.a[:60], target, target)
+    one = solve_hierarchy(levels, N)
+    assert one.single_qp
+    assert one.polished
+    monkeypatch.setattr(hierarchy, "_solve_single_qp", lambda *args: None)
+    by_level = solve_hierarchy(levels, N)
+    assert not by_level.single_qp
+    np.testing.assert_allclose(one.violation_norm, by_level.violation_norm, rtol=0, atol=1e-7)
+    np.testing.assert_allclose(one.x, by_level.x, rtol=0, atol=1e-7)
+    if last_equalities_only:
+        assert one.violation_norm[2] > 0.1
 
 
 @pytest.mark.parametrize("seed", [0, 1, 2])
