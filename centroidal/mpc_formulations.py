@@ -358,7 +358,9 @@ class FaceForm:
     cannot be expressed on the faces: a problem with `upper` is refused (MpcSolverError).
 
     `face:quadprog` calls quadprog (Goldfarb-Idnani dual active set) directly with the inverse
-    Cholesky factor of the constant Hessian, computed once (`factorized=True`); `face:daqp`
+    Cholesky factor of the constant Hessian, computed once (`factorized=True`), on a working
+    set of the faces (`_quadprog`: the same optimum; the preview stage 1.5x faster on `walk`,
+    430 against 282 us a period, measured side by side); `face:daqp`
     goes through qpsolvers and factorises every period. The constraint rows are scaled to unit
     norm (the same cone). quadprog has no iteration or time limit of its own: in a sweep, the
     episode's wall-clock budget bounds it (`bench.executors`); DAQP has both, at 4.4x the
@@ -376,6 +378,9 @@ class FaceForm:
             self._inverse_factor = scipy.linalg.solve_triangular(factor, np.eye(len(factor)))
         self._faces: dict[int, tuple[np.ndarray, np.ndarray]] = {}
         self._layout: tuple[list[int], np.ndarray, np.ndarray] | None = None
+        self._active: tuple[list[int], np.ndarray] | None = None  # (sizes, rows) last active
+        self.working_set = True  # False: quadprog on every row (the reference, for tests)
+        self.working_rows = 0  # rows quadprog was given in the last solve
 
     def _negated_constraint(self, sizes: list[int], rows: np.ndarray) -> np.ndarray:
         """The block-diagonal constraint matrix, negated, in a buffer kept while the samples'
@@ -402,6 +407,49 @@ class FaceForm:
         a sample) the Goldfarb-Idnani active set cycled for ever on exact ties; distinct
         slacks break them (the QP solved in 51 iterations)."""
         return ANTI_CYCLING_SLACK * (1.0 + np.arange(m) / m)
+
+    def _quadprog(
+        self, negated: np.ndarray, rows: np.ndarray, gradient: np.ndarray, sizes: list[int]
+    ) -> np.ndarray:
+        """quadprog on a working set of the rows, grown until no other row is violated: the
+        same optimum as on all rows (the QP is strictly convex; every row left out holds at
+        the answer, so adding it changes nothing), at a fraction of the cost: at the optimum
+        one or two of the 600-750 faces are active (measured on `walk`), and quadprog's
+        wrapper copies every row it is given. The working set starts from the rows violated
+        at the unconstrained optimum and the rows active in the last period (while the
+        samples' face counts are the same). `negated` (m, 6N) block-diagonal, `rows` its
+        (m, 6) nonzero blocks (already negated)."""
+        slack = self._slack(len(rows))
+        factor = self._inverse_factor  # R^-1, H = R^T R: H^-1 a = R^-1 R^-T a
+        sample = np.repeat(np.arange(len(sizes)), sizes)
+
+        def holds(u: np.ndarray) -> np.ndarray:
+            """Each row's C'u >= -slack, from its 6 nonzeros."""
+            return np.einsum("ij,ij->i", rows, u.reshape(-1, 6)[sample]) >= -slack
+
+        working = ~holds(factor @ (factor.T @ -gradient))
+        if not self.working_set:
+            working[:] = True
+        if self._active is not None and self._active[0] == sizes:
+            working[self._active[1]] = True
+        while True:
+            index = np.flatnonzero(working)
+            if len(index) == 0:
+                solution, lagrangian = factor @ (factor.T @ -gradient), np.zeros(0)
+            else:
+                try:
+                    result = quadprog.solve_qp(
+                        factor, -gradient, negated[index].T, -slack[index], 0, True
+                    )
+                except ValueError as exc:  # "constraints are inconsistent, no solution"
+                    raise MpcSolverError(f"{self.name}: {exc}") from exc
+                solution, lagrangian = result[0], result[4]
+            violated = ~holds(solution) & ~working
+            if not violated.any():
+                self._active = (sizes, index[lagrangian != 0])
+                self.working_rows = len(index)
+                return solution
+            working |= violated
 
     def faces_of(self, generators: np.ndarray) -> np.ndarray:
         """F of cone(G) (moments about the origin), kept per generator array: the planner
@@ -442,12 +490,7 @@ class FaceForm:
         if not len(rows):  # every sample's cone is the whole space (grasps): unconstrained
             return np.linalg.solve(self.hessian, -gradient).reshape(n, 6)
         if self.solver == "quadprog":  # min 1/2 U'HU - a'U  s.t.  C'U >= -slack
-            try:
-                solution = quadprog.solve_qp(
-                    self._inverse_factor, -gradient, negated.T, -self._slack(len(rows)), 0, True
-                )[0]
-            except ValueError as exc:  # "constraints are inconsistent, no solution"
-                raise MpcSolverError(f"{self.name}: {exc}") from exc
+            solution = self._quadprog(negated, rows, gradient, sizes)
         else:
             with np.errstate(all="ignore"):
                 solution = qpsolvers.solve_qp(

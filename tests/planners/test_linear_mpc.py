@@ -142,6 +142,29 @@ def test_face_form_equals_ridge_form_where_the_cone_binds(walking_problem, name)
     assert active >= 1  # and the cone binds
 
 
+@pytest.mark.parametrize("shift", [0.0, 0.3])
+def test_face_quadprog_working_set_gives_the_all_rows_answer(walking_problem, shift):
+    """face:quadprog gives quadprog a working set of the faces, grown until no other face is
+    violated: the same inputs as quadprog on every face, with and without binding faces (a
+    reference 0.3 m to the side), from a cold start and from the last period's active set, and
+    with fewer rows than all (measured: 5 and 21 of 192)."""
+    mpc, problem = walking_problem
+    problem = replace(problem, y_reference=problem.y_reference.copy())
+    problem.y_reference[:, 1] += shift
+    every = make_formulation("face:quadprog", mpc, 32)
+    every.working_set = False
+    reference = every.solve(problem)
+    total = every.working_rows
+    face = make_formulation("face:quadprog", mpc, 32)
+    cold = face.solve(problem)
+    assert face.working_rows < total
+    warm = face.solve(problem)  # starts from the active faces of the solve before
+    for inputs in (cold, warm):
+        np.testing.assert_allclose(inputs, reference, rtol=0, atol=1e-9 * np.abs(reference).max())
+    if shift:  # the cone binds: some faces are active, and they are in the working set
+        assert face.working_rows >= 1
+
+
 def test_face_form_refuses_ridge_bounds(model, walking_problem):
     mpc, problem = walking_problem
     bounded = replace(problem, upper=[np.full(n, 100.0) for n in problem.sizes])
