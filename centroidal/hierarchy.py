@@ -23,13 +23,17 @@ Backends (`SOLVERS`):
     case: its level 2, eq. 14, is met except after a push), the lexicographic optimum is that of
     one QP: those levels' rows hard, the last level's squared violation the cost
     (`_solve_single_qp`, a slack per inequality row of the last level, the tie-break weighted by
-    `SINGLE_QP_TIE_BREAK`), then the exact polish below started from DAQP's active set. Only when
-    DAQP finds those rows infeasible, or leaves one violated, is the hierarchical mode run. Same
-    answer (x within 1e-7 of the hierarchical mode on the tests' problems; level norms within
-    7e-7 and x within 2e-5 on 660 problems recorded from `reach` and `reach_push`), less work:
+    `SINGLE_QP_TIE_BREAK`, against the last level's rows scaled to unit largest norm), then the
+    exact polish below started from DAQP's active set. Only when DAQP finds those rows
+    infeasible, or leaves one violated, is the hierarchical mode run. Same answer (x within
+    1e-7 of the hierarchical mode and 1e-6 of the cascade on the tests' problems, with violated
+    last-level inequalities, a last level of norm 1e-4 and H = 1e8 I among them; level norms
+    within 7e-7 and x within 2e-5 of the hierarchical mode on 660 problems recorded from `reach`
+    and `reach_push`, where a review found the hierarchical mode's polish the one not kept and
+    the one QP's answers equal to the cascade's), less work:
     the hierarchical mode softens every row of every level, the QP only the last level's, and
     its hot start then works as the paper's does ("most of the time solver does only one
-    iteration", Sec. VII-B: 95 % of periods in a pushed standing episode; the hierarchical mode
+    iteration", Sec. VII-B: 97 % of periods in a pushed standing episode; the hierarchical mode
     hot-started needed 19-60 iterations a period). `HierarchySolution.single_qp` tells the path.
 
   - Weighting. DAQP scales every row (of A R^-1, H = R^T R) to unit norm before softening, so it
@@ -69,7 +73,8 @@ Backends (`SOLVERS`):
   were active when their own level was solved (the nonzero hierarchical-mode duals). Passing it
   as `warm_start` (same rows) activates them at the start of their level: 3-49 % (median 24 %)
   fewer iterations on 160 controller-size problems, repeated or with the bounds moved by 1e-3,
-  never more.
+  never more. After the one QP, `active` holds the QP's own active rows (its nonzero duals) in
+  the same flags, and a warm start activates them in either path.
 
 * ``"cascade"``, the reference: one QP per level through qpsolvers, variables (y, v) with
   x = x_p + Z y: min 1/2 ||v||^2 s.t. lower_i <= A_i x - v <= upper_i and every level j above
@@ -84,6 +89,7 @@ Backends (`SOLVERS`):
 
 from __future__ import annotations
 
+import math
 import time
 from collections.abc import Sequence
 from dataclasses import dataclass
@@ -107,7 +113,8 @@ _ACCEPT_TOL = 1e-7  # polish: kept unless lexicographically worse by 1e-7 (1 + n
 _POLISH_ROUNDS = 8  # polish: at most 8 equality-only solves (7 rows joining)
 _RANK_TOL = 1e-9  # null-space steps: pivots below 1e-9 times the largest row norm are zero
 _PINNED_TOL = 1e-6  # rows within 1e-6 (relative) of the span of equality rows above are pinned
-SINGLE_QP_TIE_BREAK = 1e-9  # the one-QP path's tie-break weight on x^T H x (polished away)
+SINGLE_QP_TIE_BREAK = 1e-9  # the one QP's tie-break weight on x^T H x, the last level scaled
+_SINGLE_QP_TOL = 1e-8  # an upper row violated by more than 1e-8 (1 + |A x|): level by level
 _CASCADE_QP = (
     ("piqp", {"eps_abs": 1e-11, "eps_rel": 0.0}),
     ("proxqp", {"eps_abs": 1e-11, "eps_rel": 0.0, "max_iter": 100000}),
@@ -171,7 +178,7 @@ class HierarchySolution:
     violation_norm: list[float]  # ||r_i|| per level
     iterations: int  # DAQP: active-set iterations (of the path taken); cascade: QPs solved
     active: np.ndarray | None  # DAQP: sense flags for `warm_start`; cascade: None
-    exitflag: int  # DAQP's (1 optimal, 2 optimal with soft rows violated); cascade: 1
+    exitflag: int  # DAQP's (1 optimal, 2 with rows of some level violated); cascade: 1
     solve_time_s: float
     polished: bool = False  # DAQP: the exact active-set polish was kept
     single_qp: bool = False  # DAQP: solved as one QP (`_solve_single_qp`), not level by level
@@ -281,7 +288,9 @@ def _solve_daqp(
         x, iterations, active = single
         polished = _polish(levels, n, chol, x, start=active)
         x = x if polished is None else polished
-        return x, iterations, active, 1, polished is not None, True
+        # DAQP's convention: 2 when a row is left violated (here only the last level's can be)
+        met = np.all(np.abs(levels[-1].violation(x)) <= _ACTIVE_TOL)
+        return x, iterations, active, 1 if met else 2, polished is not None, True
     keep = ~_pinned_rows(levels)  # DAQP mishandles them (see the module docstring)
     active = np.zeros(m, dtype=np.intc)
     if not keep.any():
@@ -335,15 +344,19 @@ def _solve_single_qp(
     sense: np.ndarray,
 ) -> tuple[np.ndarray, int, np.ndarray] | None:
     """The lexicographic optimum as one QP, when every level above the last can be met exactly
-    (the usual case of the controller: a push makes level 2 infeasible): the upper levels' rows
-    hard, the last level's squared violation as the cost, min 1/2 ||A_L x - t - v||^2 with a
-    slack v per inequality row of the last level (lower_L <= A_L x - v <= upper_L), and
-    `SINGLE_QP_TIE_BREAK` times the regularization for the tie-break (DAQP wants a positive
-    definite Hessian). If DAQP finds the upper rows infeasible, or any upper row is violated by
-    more than `_ACTIVE_TOL` (1 + |A x|) at its answer, None: the hierarchical mode decides.
-    Otherwise (x, iterations, active flags of all rows); the caller polishes x to the exact
-    optimum, whose active set this QP found. Same answer, a fraction of the work: DAQP's
-    hierarchical mode softens every row of every level and hardens level by level."""
+    (the controller's case in most periods; not after a push, when level 2 cannot be met): the
+    upper levels' rows hard, the last level's squared violation the cost,
+    min 1/2 ||A_L x - t - v||^2 with a slack v per inequality row of the last level
+    (lower_L <= A_L x - v <= upper_L), and `SINGLE_QP_TIE_BREAK` times the regularization for
+    the tie-break (DAQP wants a positive definite Hessian). The last level's rows are scaled to
+    a largest H-whitened norm of one first (the same optimum), so that the tie-break's pull is
+    1e-9 relative to the level's own curvature whatever the rows' or H's scale (unscaled, a last
+    level of norm 1e-4 or H = 1e8 I let the tie-break move x past an upper row: a wrong active
+    set, which the polish cannot release). If DAQP finds the upper rows infeasible, or leaves
+    one violated by more than `_SINGLE_QP_TOL` (1 + |A x|), None: the hierarchical mode
+    decides. Otherwise (x, iterations, active flags of all rows); the caller polishes x to the
+    exact optimum of this active set. Far less work than the hierarchical mode, which softens
+    every row of every level and hardens level by level."""
     import daqp
 
     if len(levels) < 2:
@@ -351,38 +364,40 @@ def _solve_single_qp(
     last = levels[-1]
     m_last = last.a.shape[0]
     m_upper = lower.shape[0] - m_last
+    norm2 = np.sum(_whiten(chol, last.a) ** 2, axis=1) if m_last else np.zeros(0)
+    scale = 1.0 / math.sqrt(norm2.max()) if m_last and norm2.max() > 0.0 else 1.0
     equal = last.lower == last.upper
     inequal = np.flatnonzero(~equal)
     k = inequal.size  # slack variables
     size = n + k
     hess = np.zeros((size, size))
-    a_eq = last.a[equal]
+    a_eq = scale * last.a[equal]
     hess[:n, :n] = a_eq.T @ a_eq + SINGLE_QP_TIE_BREAK * (
         np.eye(n) if chol is None else chol @ chol.T
     )
     linear = np.zeros(size)
-    linear[:n] = -a_eq.T @ last.upper[equal]
+    linear[:n] = -a_eq.T @ (scale * last.upper[equal])
     hess[n:, n:] = np.eye(k)
     rows = np.zeros((m_upper + k, size))
     rows[:m_upper, :n] = np.vstack([level.a for level in levels[:-1]])
-    rows[m_upper:, :n] = last.a[inequal]
+    rows[m_upper:, :n] = scale * last.a[inequal]
     rows[m_upper:, n:] = -np.eye(k)
-    rows_lower = np.concatenate([lower[:m_upper], last.lower[inequal]])
-    rows_upper = np.concatenate([upper[:m_upper], last.upper[inequal]])
+    rows_lower = np.concatenate([lower[:m_upper], scale * last.lower[inequal]])
+    rows_upper = np.concatenate([upper[:m_upper], scale * last.upper[inequal]])
     x_all, _, exitflag, info = daqp.solve(
         hess,
         linear,
         rows,
         np.minimum(rows_upper, _DAQP_INF),
         np.maximum(rows_lower, -_DAQP_INF),
-        np.concatenate([sense[:m_upper], np.zeros(k, dtype=np.intc)]),
+        np.concatenate([sense[:m_upper], sense[m_upper:][inequal] & 3]).astype(np.intc),
         primal_tol=DAQP_PRIMAL_TOL,
     )
     if exitflag != 1:
         return None
     x = np.array(x_all[:n])
     for level in levels[:-1]:
-        if np.any(np.abs(level.violation(x)) > _ACTIVE_TOL * (1.0 + np.abs(level.a @ x))):
+        if np.any(np.abs(level.violation(x)) > _SINGLE_QP_TOL * (1.0 + np.abs(level.a @ x))):
             return None
     lam = np.asarray(info["lam"])
     active = np.zeros(lower.shape[0], dtype=np.intc)
