@@ -465,8 +465,8 @@ def test_the_main_job_is_every_controller_on_each_protocol_it_can_run():
     """bench/specs/main.toml for the registry: every registered controller x both simulators
     on every protocol, with "n/a" rows exactly where a controller cannot run the scenario
     (Murooka's motions need multi-contact), 20 pushes per level in the same directions for
-    every controller, and Sherikov et al.'s hierarchy on their reaching tests and the
-    humanoid's push protocols."""
+    every controller, and Sherikov et al.'s hierarchy on their reaching tests and the standing
+    pushes."""
     from bench.controllers import controller_spec, refusal
 
     spec = load_spec(Path(__file__).parents[2] / "bench" / "specs" / "main.toml")
@@ -486,7 +486,7 @@ def test_the_main_job_is_every_controller_on_each_protocol_it_can_run():
     expected = {  # protocol -> (controllers, scenarios or pushes per controller and simulator)
         "walks": (registered, 1),
         "standing_pushes": (registered | {"capturability_hierarchy"}, 20),
-        "walking_pushes": (registered | {"capturability_hierarchy"}, 20),
+        "walking_pushes": (registered, 20),
         "jvrc1_standing_pushes": (registered, 20),
         "jvrc1_walking_pushes": (registered, 20),
         "motions": (registered, 3),
