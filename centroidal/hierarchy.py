@@ -441,18 +441,19 @@ def _polish(
     to `_POLISH_ROUNDS` times. None if the answer is lexicographically worse than x."""
     ax0 = [level.a @ x for level in levels]
     upper, lower = [], []  # per level: rows held at their upper / lower bound
-    if start is not None:
+    if start is not None:  # the solver's active rows, and every equality row
         flags = np.split(start, np.cumsum([level.a.shape[0] for level in levels])[:-1])
         for level, flag in zip(levels, flags, strict=True):
             equal = level.lower == level.upper
             upper.append(equal | ((flag & 1) != 0) & ((flag & 2) == 0))
             lower.append(~equal & ((flag & 3) == 3))
-    for level, ax in zip(levels if start is None else (), ax0, strict=False):
-        tol = _ACTIVE_TOL * (1.0 + np.abs(ax))
-        near_upper, near_lower = ax >= level.upper - tol, ax <= level.lower + tol
-        both = near_upper & near_lower
-        upper.append(near_upper & ~(both & (ax - level.lower < level.upper - ax)))
-        lower.append(near_lower & ~upper[-1])
+    else:  # the rows within the tolerance of a bound at x, or beyond it
+        for level, ax in zip(levels, ax0, strict=True):
+            tol = _ACTIVE_TOL * (1.0 + np.abs(ax))
+            near_upper, near_lower = ax >= level.upper - tol, ax <= level.lower + tol
+            both = near_upper & near_lower
+            upper.append(near_upper & ~(both & (ax - level.lower < level.upper - ax)))
+            lower.append(near_lower & ~upper[-1])
     for _ in range(_POLISH_ROUNDS):
         w_p, basis = np.zeros(n), np.eye(n)
         for level, up, low in zip(levels, upper, lower, strict=True):

@@ -377,7 +377,8 @@ class FaceForm:
             factor = scipy.linalg.cholesky(self.hessian)  # R, upper triangular
             self._inverse_factor = scipy.linalg.solve_triangular(factor, np.eye(len(factor)))
         self._faces: dict[int, tuple[np.ndarray, np.ndarray]] = {}
-        self._layout: tuple[list[int], np.ndarray, np.ndarray] | None = None
+        # (sizes, flat positions, buffer, each row's sample), kept while the sizes stay
+        self._layout: tuple[list[int], np.ndarray, np.ndarray, np.ndarray] | None = None
         self._active: tuple[list[int], np.ndarray] | None = None  # (sizes, rows) last active
         self.working_set = True  # False: quadprog on every row (the reference, for tests)
         self.working_rows = 0  # rows quadprog was given in the last solve
@@ -392,8 +393,8 @@ class FaceForm:
             sample = np.repeat(np.arange(n), sizes)
             columns = 6 * sample[:, None] + np.arange(6)
             flat = np.arange(len(rows))[:, None] * (6 * n) + columns  # row-major positions
-            self._layout = (sizes, flat.ravel(), np.zeros((len(rows), 6 * n)))
-        _, flat, buffer = self._layout
+            self._layout = (sizes, flat.ravel(), np.zeros((len(rows), 6 * n)), sample)
+        _, flat, buffer, _ = self._layout
         np.negative(rows, out=rows)
         buffer.put(flat, rows)
         return buffer
@@ -418,10 +419,11 @@ class FaceForm:
         wrapper copies every row it is given. The working set starts from the rows violated
         at the unconstrained optimum and the rows active in the last period (while the
         samples' face counts are the same). `negated` (m, 6N) block-diagonal, `rows` its
-        (m, 6) nonzero blocks (already negated)."""
+        (m, 6) nonzero blocks (already negated), `sizes` the samples' face counts of the
+        layout `_negated_constraint` kept (its rows' samples are reused here)."""
         slack = self._slack(len(rows))
         factor = self._inverse_factor  # R^-1, H = R^T R: H^-1 a = R^-1 R^-T a
-        sample = np.repeat(np.arange(len(sizes)), sizes)
+        sample = self._layout[3]
 
         def holds(u: np.ndarray) -> np.ndarray:
             """Each row's C'u >= -slack, from its 6 nonzeros."""
