@@ -3,7 +3,9 @@
 `compare` runs each planner (with one stabilizer) on a scenario in each simulator and returns
 one row per planner x simulator: the mean planned and desired projection errors (Sec. V-G), the
 mean feedback wrench ||w-bar^d - w-bar^p'|| (eq. 12's Delta w-bar^d), the CoM tracking error,
-the planner's per-update compute time (median, p99) and its horizon in samples.
+the scales of the planned CoM acceleration and angular momentum (Sec. V-G: "no significant
+differences were found in the scale of feedback wrench (11), CoM acceleration, and angular
+momentum"), the planner's per-update compute time (median, p99) and its horizon in samples.
 `horizon_timing` measures the linear MPC's update time against its horizon length for each
 formulation and solver (Sec. V-E: Audren's MPC takes 20 ms for 20 samples).
 """
@@ -21,6 +23,7 @@ import pandas as pd
 from bench.metrics import feedback_magnitude
 from bench.runner import EpisodeSpec, run_episode
 from reports.paper_figures import PAPER_SEC_V_G
+from robots.model import RobotModel, cached_model
 from robots.robot_registry import DEFAULT_ROBOT, make_robot
 
 COMPARISON_COLUMNS = (
@@ -35,6 +38,7 @@ COMPARISON_COLUMNS = (
     "feedback_moment_Nm",
     "com_error_rms_mm",
     "com_acceleration_mps2",
+    "angular_momentum_kgm2ps",
     "update_median_us",
     "update_p99_us",
     "horizon_samples",
@@ -70,10 +74,23 @@ def _row(spec: EpisodeSpec) -> dict:
         row["com_acceleration_mps2"] = float(
             np.linalg.norm(force.to_numpy(), axis=1).mean() / summary["mass_kg"]
         )
+    if len(trace):  # Sec. V-G's "scale of ... angular momentum"
+        row["angular_momentum_kgm2ps"] = planned_angular_momentum_scale(
+            trace, cached_model(make_robot(spec.robot, spec.scale))
+        )
     update = summary["latency_us"].get("planner", {})
     row["update_median_us"] = update.get("median")
     row["update_p99_us"] = update.get("p99")
     return row
+
+
+def planned_angular_momentum_scale(trace: pd.DataFrame, model: RobotModel) -> float:
+    """[kg m^2/s] the mean of ||L^p|| over the trace, the planned centroidal angular momentum
+    L^p = I omega^p of Murooka eq. 6 (I the constant diagonal inertia, `RobotModel.
+    constant_inertia`, that preview control and the linear MPC plan with; omega^p the plan's
+    base angular velocity, world axes)."""
+    omega = trace[[f"base_angular_velocity_planned_{axis}" for axis in "xyz"]].to_numpy()
+    return float(np.linalg.norm(omega * np.diag(model.constant_inertia()), axis=1).mean())
 
 
 def paper_rows(scenario: str, planners: Sequence[str]) -> pd.DataFrame | None:

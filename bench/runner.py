@@ -698,6 +698,7 @@ def _record(
     vector("com_actual", state.com_position_world)
     vector("com_velocity_planned", plan.com_velocity_planned_world)
     vector("com_velocity_actual", state.com_velocity_world)
+    vector("base_angular_velocity_planned", plan.base_angular_velocity_planned_world)
     vector("base_quat", state.base_orientation_world, ("w", "x", "y", "z"))
     vector("zmp_planned", plan.zmp_planned_world[:2], ("x", "y"))
     vector("zmp_desired", targets.zmp_desired_world[:2], ("x", "y"))

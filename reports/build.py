@@ -16,6 +16,7 @@ import pandas as pd
 import pyarrow.parquet as pq
 
 from reports import headlines, plots, robustness, tables
+from reports.paper_figures import MOTION_FIGURES
 
 TITLE = "centrobench report"
 
@@ -497,6 +498,7 @@ def build_report(
             )
         )
     figures += _reach_figures(reach_traces, out)
+    figures += _motion_figures(episodes, out, notes)
     if notes:
         info["files left out"] = "; ".join(notes)
     md = out / "report.md"
@@ -526,16 +528,25 @@ def _walk_traces(episodes: pd.DataFrame, notes: list[str]) -> dict[str, pd.DataF
     result = {}
     for controller, group in walks.sort_values(["controller", "sim"]).groupby("controller"):
         row = group.iloc[0]
-        path = _trace_dir(row) / f"{row['episode_id']}.parquet"
-        trace = _read_trace(path, notes)
+        trace = _plotted_trace(row, plots.WALK_COLUMNS, notes)
         if trace is None:
-            continue
-        missing = [c for c in plots.WALK_COLUMNS if c not in trace.columns]
-        if missing:
-            notes.append(f"traces/{path.name}: no {missing[0]} column, not plotted")
             continue
         result[f"{controller} ({row['sim']}, {row['status']})"] = trace
     return result
+
+
+def _plotted_trace(row: pd.Series, columns: Sequence[str], notes: list[str]) -> pd.DataFrame | None:
+    """The episode's stored trace if it has every one of `columns`; None if there is none, or
+    (with a note in `notes`) if it cannot be read or lacks one."""
+    path = _trace_dir(row) / f"{row['episode_id']}.parquet"
+    trace = _read_trace(path, notes)
+    if trace is None:
+        return None
+    missing = [c for c in columns if c not in trace.columns]
+    if missing:
+        notes.append(f"traces/{path.name}: no {missing[0]} column, not plotted")
+        return None
+    return trace
 
 
 def _read_trace(path, notes: list[str]) -> pd.DataFrame | None:
@@ -633,6 +644,35 @@ def _reach_figures(
                 f"Reaching, solve time (Sherikov Fig. 2): {label}",
                 plots.solve_time_plot(
                     trace, out / f"reach_{name}_solve.png", title=f"{label}: hierarchy solve"
+                ),
+            )
+        )
+    return figures
+
+
+def _motion_figures(episodes: pd.DataFrame, out: Path, notes: list[str]) -> list[tuple[str, Path]]:
+    """Murooka Figs. 5-7 (`plots.motion_plot`) for each episode of a multi-contact motion
+    (`MOTION_FIGURES`) with a stored trace; a trace without the plotted columns (a controller
+    without a desired wrench) is skipped with a note in `notes`."""
+    if "scenario" not in episodes.columns or "has_trace" not in episodes.columns:
+        return []
+    rows = episodes[
+        episodes["scenario"].isin(list(MOTION_FIGURES))
+        & episodes["has_trace"].fillna(False).astype(bool)
+    ]
+    figures = []
+    for _, row in rows.sort_values(["scenario", "controller", "sim", "episode_id"]).iterrows():
+        trace = _plotted_trace(row, plots.MOTION_COLUMNS, notes)
+        if trace is None:
+            continue
+        label = f"{row['controller']} ({row['sim']}, {row['scenario']}, {row['status']})"
+        name = re.sub(r"[^A-Za-z0-9._-]", "_", str(row["episode_id"]))
+        figure = MOTION_FIGURES[row["scenario"]]
+        figures.append(
+            (
+                f"Multi-contact motion (Murooka {figure}): {label}",
+                plots.motion_plot(
+                    trace, float(row["mass_kg"]), out / f"motion_{name}.png", title=label
                 ),
             )
         )

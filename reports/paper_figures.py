@@ -40,6 +40,17 @@ MOTION_LABELS = {
 }
 """The scenarios of Murooka et al.'s Fig. 4 (A)-(C), where Table IV and Sec. V-G are measured."""
 
+MOTION_FIGURES = {
+    "hand_wall": "Fig. 5",
+    "handrail_stairs": "Fig. 6",
+    "ladder": "Fig. 7",
+    "hand_supports": "Figs. 5-7 style, Fig. 4 (D)",
+    "moving_contacts": "Figs. 5-7 style, Fig. 4 (E)",
+}
+"""The multi-contact motions of Murooka et al.'s Fig. 4 and the paper's figure of results for
+each ((D) and (E) have none: drawn in the same style); the report draws one per episode with a
+trace (`reports.plots.motion_plot`)."""
+
 PAPER_SEC_V_G: dict[tuple[str, str], dict[str, float]] = {
     ("handrail_stairs", "preview_control"): {
         "planned_force_N": 2.2,

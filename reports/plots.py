@@ -130,6 +130,110 @@ def walk_plot(traces: Mapping[str, pd.DataFrame], path: str | Path) -> Path:
     return path
 
 
+# the trace columns `motion_plot` needs (a hand's columns are drawn when the trace has them)
+MOTION_COLUMNS = (
+    "time",
+    "contacts_planned",
+    *(f"{quantity}_{axis}" for axis in "xyz" for quantity in ("com_ref", "com_planned")),
+    *(f"com_{kind}_{axis}" for axis in "xyz" for kind in ("true", "velocity_true")),
+    *(f"wrench_{kind}_f{axis}" for axis in "xyz" for kind in ("projected", "desired")),
+)
+MOTION_HANDS = ("left_hand", "right_hand")
+ACTUAL_FORCE_SMOOTHING_S = 0.01
+"""[s] the moving average over which `actual_resultant_force` smooths the differentiated
+ground-truth CoM velocity (a 2 ms difference of a simulated velocity chatters at contacts)."""
+
+
+def actual_resultant_force(trace: pd.DataFrame, mass_kg: float) -> np.ndarray:
+    """(n, 3) [N] the actual resultant force, gravity apart (m c'', the convention of the
+    plan's w-bar), from the ground-truth CoM velocity differentiated over the trace's periods
+    and averaged over `ACTUAL_FORCE_SMOOTHING_S`. By Newton's law it is the sum of the measured
+    contact forces minus m g (Murooka Fig. 5 B's "actual", from w^a_i) whenever no other force
+    acts, i.e. outside pushes."""
+    time = trace["time"].to_numpy(dtype=float)
+    velocity = trace[[f"com_velocity_true_{axis}" for axis in "xyz"]].to_numpy(dtype=float)
+    if len(time) < 2:
+        return np.full((len(time), 3), np.nan)
+    acceleration = np.gradient(velocity, time, axis=0)
+    window = max(1, round(ACTUAL_FORCE_SMOOTHING_S / float(np.median(np.diff(time)))))
+    kernel = np.ones(window) / window
+    smooth = np.column_stack(
+        [np.convolve(acceleration[:, k], kernel, mode="same") for k in range(3)]
+    )
+    return mass_kg * smooth
+
+
+def motion_plot(trace: pd.DataFrame, mass_kg: float, path: str | Path, title: str = "") -> Path:
+    """Murooka Figs. 5-7 style, for one multi-contact motion: (A) the CoM reference, planned
+    and actual (ground truth) along x, y, z; (B) the resultant force, gravity apart, reference
+    (zero: "we always set the reference force to zero", Sec. III-B), planned (w-bar^p',
+    projected), desired (w-bar^d) and actual (`actual_resultant_force`) along x, y, z; (C) each
+    hand's contact force desired (w^d_i) and measured (w^a_i) in its contact frame, and the
+    number of planned contacts. Columns: `MOTION_COLUMNS`, and the hands' when present."""
+    path = Path(path)
+    figure, axes = plt.subplots(3, 3, figsize=(13, 8.5), sharex=True)
+    time = trace["time"].to_numpy(dtype=float)
+    actual = actual_resultant_force(trace, mass_kg)
+    for k, axis_name in enumerate("xyz"):
+        com = axes[0][k]
+        com.plot(time, trace[f"com_ref_{axis_name}"], "k:", lw=0.8, label="reference")
+        com.plot(time, trace[f"com_planned_{axis_name}"], color="C0", lw=1.0, label="planned")
+        com.plot(time, trace[f"com_true_{axis_name}"], color="C2", lw=1.0, ls="--", label="actual")
+        com.set_title(f"(A) CoM {axis_name}", fontsize=9)
+        com.set_ylabel("[m]")
+        force = axes[1][k]
+        force.axhline(0.0, color="k", ls=":", lw=0.8, label="reference")
+        force.plot(
+            time, trace[f"wrench_projected_f{axis_name}"], color="C0", lw=0.9, label="planned"
+        )
+        force.plot(time, trace[f"wrench_desired_f{axis_name}"], color="C1", lw=0.7, label="desired")
+        force.plot(time, actual[:, k], color="C2", lw=0.6, alpha=0.8, label="actual")
+        force.set_title(f"(B) resultant force {axis_name}, gravity apart", fontsize=9)
+        force.set_ylabel("[N]")
+    for k, hand in enumerate(MOTION_HANDS):
+        axis = axes[2][k]
+        axis.set_title(f"(C) {hand.replace('_', ' ')} force, contact frame", fontsize=9)
+        axis.set_ylabel("[N]")
+        columns = [f"wrench_{kind}_{hand}_f{a}" for kind in ("desired", "measured") for a in "xyz"]
+        if not all(c in trace.columns for c in columns):
+            axis.text(0.5, 0.5, "not recorded", ha="center", transform=axis.transAxes)
+            continue
+        for j, a in enumerate("xyz"):
+            axis.plot(
+                time,
+                trace[f"wrench_desired_{hand}_f{a}"],
+                color=f"C{j}",
+                lw=0.9,
+                label=f"f{a} desired",
+            )
+            axis.plot(
+                time,
+                trace[f"wrench_measured_{hand}_f{a}"],
+                color=f"C{j}",
+                lw=0.6,
+                ls="--",
+                alpha=0.8,
+                label=f"f{a} actual",
+            )
+        axis.legend(fontsize=6, loc="upper left", ncol=2)
+    contacts = axes[2][2]
+    contacts.step(time, trace["contacts_planned"].to_numpy(dtype=float), where="post", color="k")
+    contacts.set_title("contacts planned", fontsize=9)
+    for row in axes:
+        for axis in row:
+            axis.grid(alpha=0.3)
+    axes[0][0].legend(fontsize=7, loc="upper left")
+    axes[1][0].legend(fontsize=7, loc="upper left")
+    for axis in axes[-1]:
+        axis.set_xlabel("time [s]")
+    if title:
+        figure.suptitle(title, fontsize=10)
+    figure.tight_layout()
+    figure.savefig(path, dpi=90)
+    plt.close(figure)
+    return path
+
+
 PAPER_SOLVE_MEAN_MS = 0.92
 """Sherikov, Dimitrov & Wieber 2014, Sec. VII-B (Fig. 2): "The average time required for
 solution of the optimization problem is equal to 0.92 (ms), when the solver is executed on

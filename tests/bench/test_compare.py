@@ -78,6 +78,41 @@ def test_standing_still_plans_no_com_acceleration(table):
     assert table.iloc[1]["com_acceleration_mps2"] < 0.05
 
 
+def test_standing_still_plans_no_angular_momentum(table):
+    """Sec. V-G's "scale of ... angular momentum": standing still, preview control plans none
+    (its reference orientation is constant), to well under a walk's."""
+    assert table.iloc[1]["angular_momentum_kgm2ps"] < 1e-3
+
+
+def test_angular_momentum_scale_is_the_constant_inertia_times_the_planned_rate():
+    """L^p = I omega^p (Murooka eq. 6) from the trace's planned base rate: computed by hand
+    here per axis, and not zero on a walk, where the plan turns the base as the feet move."""
+    from bench.compare import planned_angular_momentum_scale
+    from robots.model import RobotModel
+    from robots.robot_registry import make_robot
+
+    result = run_episode(
+        EpisodeSpec("preview_control", "centroidal_feedback", "mujoco", "walk_turn", duration=2.0)
+    )
+    model = RobotModel(make_robot())
+    inertia = model.constant_inertia()
+    trace = result.trace
+    by_hand = np.mean(
+        [
+            np.sqrt(
+                sum(
+                    (inertia[k, k] * row[f"base_angular_velocity_planned_{a}"]) ** 2
+                    for k, a in enumerate("xyz")
+                )
+            )
+            for _, row in trace.iterrows()
+        ]
+    )
+    scale = planned_angular_momentum_scale(trace, model)
+    assert scale == pytest.approx(by_hand, rel=1e-12)
+    assert scale > 1e-3  # the turning walk's plan rotates the base
+
+
 def test_the_papers_sec_v_g_rows_come_with_stairs_and_ladder_only():
     from bench.compare import paper_rows
 
