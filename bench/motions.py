@@ -231,9 +231,9 @@ class ContactSequence:
         self._phase(duration, com_offset)
         for target in targets:
             self.contacts[target.limb] = target
-            if target.grasp:
+            if target.grasp or target.held:
                 if boxes is None or target.limb not in boxes:
-                    raise ValueError(f"{target.limb!r} grasps: name its box in `boxes`")
+                    raise ValueError(f"{target.limb!r} is held: name its box in `boxes`")
                 self._holding[target.limb] = (boxes[target.limb], self.time)
 
     def free(
@@ -409,10 +409,19 @@ def _rail_palm(side: str) -> Quaternion:
     return (float(w), float(x), float(y), float(z))
 
 
-def _rail_grasp(scale: float, side: str, x: float) -> tuple[Contact, str]:
+RAIL_REST_HALF_EXTENTS = (0.03, 0.01)
+"""[m] at scale 1: where a hand resting on a rail (`handrail_stairs_resting`) touches it, a
+rectangle on the rail's top face under the palm, half extents along and across the rail: the
+0.04 m bar's width and about the hand's width along it, less the 0.01 m inner margin of every
+contact polygon (`robots.limbs.CONTACT_MARGIN`). Ours: the paper draws no hand polygon."""
+
+
+def _rail_grasp(scale: float, side: str, x: float, resting: bool = False) -> tuple[Contact, str]:
     """A hand grasping the `side` rail of `handrail_stairs` at x [m] (`RAIL_PALM_EULER_DEG`):
     the palm centre over the bar's centre line, 0.05 m (half the pad's length) above the bar's
-    top face; and the rail piece (box) that holds it there."""
+    top face; and the rail piece (box) that holds it there. `resting`: the same pose, but the
+    hand only pushes on the rail's top face (a unilateral contact, `RAIL_REST_HALF_EXTENTS`,
+    normal perpendicular to the rail) and the scene holds it there (`Contact.held`)."""
     s = scale
     run, rise = STEP_RUN * s, PAPER_STEP_RISE_M * s
     foot_of_slope = WALKWAY_START_X * s - run
@@ -429,16 +438,32 @@ def _rail_grasp(scale: float, side: str, x: float) -> tuple[Contact, str]:
     top = height + HANDRAIL_HALF_SECTION * s * math.hypot(1.0, slope)  # the top face at x
     pad_half_length = 0.05 * s  # the humanoid's palm pad: 0.10 m along the palm's x axis
     sign = 1.0 if side == "left" else -1.0
+    position = (x, sign * HANDRAIL_Y * s, top + pad_half_length)
+    if not resting:
+        return Contact(
+            f"{side}_hand", position, _rail_palm(side), grasp=True
+        ), f"rail_{side}_{piece}"
+    half_along, half_across = (RAIL_REST_HALF_EXTENTS[0] * s, RAIL_REST_HALF_EXTENTS[1] * s)
+    w, qx, qy, qz = Rotation.from_euler("y", -math.atan(slope)).as_quat(scalar_first=True)
     contact = Contact(
         f"{side}_hand",
-        (x, sign * HANDRAIL_Y * s, top + pad_half_length),
+        position,
         _rail_palm(side),
-        grasp=True,
+        support_in_frame=(
+            (half_along, half_across),
+            (-half_along, half_across),
+            (-half_along, -half_across),
+            (half_along, -half_across),
+        ),
+        surface_pose_world=((x, sign * HANDRAIL_Y * s, top), (w, qx, qy, qz)),
+        held=True,
     )
     return contact, f"rail_{side}_{piece}"
 
 
-def handrail_stairs_motion(model: RobotModel, duration: float | None = None) -> Scenario:
+def handrail_stairs_motion(
+    model: RobotModel, duration: float | None = None, resting: bool = False
+) -> Scenario:
     """Fig. 4 (B): "climbing four steps of 150 mm height with handrails" (`robots.
     multi_contact_scenes.handrail_stairs`). Standing at the foot of the stairs, the hands grasp
     the rails 0.20 m ahead (left, then right); the feet step to 0.15 m ahead, then both onto
@@ -448,13 +473,16 @@ def handrail_stairs_motion(model: RobotModel, duration: float | None = None) -> 
     The CoM reference follows Sec. V-C: the feet's centre (single support: the supporting
     foot's, offset inward by 50 mm, `PAPER_COM_INWARD_M`), at a constant height above their
     mean; grasps as `Contact.grasp` (the paper's facing pyramids) held by the scene's `Grasp`s.
-    Table II's hand K_d is the table's (the paper gives other values only for (A) and (C))."""
+    Table II's hand K_d is the table's (the paper gives other values only for (A) and (C)).
+    `resting` (`handrail_stairs_resting`): the hands rest on the rails' tops instead, unilateral
+    contacts in the same poses (`_rail_grasp`), as the paper's (B) most likely had them (its
+    Sec. V-G projection errors), held there by the scene as a grasp is."""
     robot = model.robot
     s, time_scale, poses, feet, sequence = _begin(model)
     sequence.hold(STAIRS_STAND_S * time_scale)
     hand_x = STAIRS_HAND_START * s
     for side in ("left", "right"):
-        grasp, box = _rail_grasp(s, side, hand_x)
+        grasp, box = _rail_grasp(s, side, hand_x, resting)
         sequence.move(
             (grasp,),
             STAIRS_REACH_S * time_scale,
@@ -485,7 +513,7 @@ def handrail_stairs_motion(model: RobotModel, duration: float | None = None) -> 
         rail_end = WALKWAY_START_X * s + (PAPER_STEP_COUNT - 1) * run + HANDRAIL_RUNOUT * s
         hand_x = min(x + STAIRS_HAND_AHEAD * s, rail_end - 0.05 * s)
         for side in ("left", "right"):
-            grasp, box = _rail_grasp(s, side, hand_x)
+            grasp, box = _rail_grasp(s, side, hand_x, resting)
             sequence.move(
                 (grasp,),
                 STAIRS_HAND_MOVE_S * time_scale,
@@ -498,7 +526,8 @@ def handrail_stairs_motion(model: RobotModel, duration: float | None = None) -> 
     sequence.hold(STAIRS_STAND_S * time_scale)
     scene = handrail_stairs(robot)
     # every swing is lifted (`STAIRS_LIFT`): no clearance bump on top of it
-    return _scenario("handrail_stairs", scene, sequence, model, duration, swing_height=0.0)
+    name = "handrail_stairs_resting" if resting else "handrail_stairs"
+    return _scenario(name, scene, sequence, model, duration, swing_height=0.0)
 
 
 WALL_WALK_FOOTHOLDS = (0.18, 0.42, 0.56, 0.70, 0.80, 1.05, 1.15, 1.42, 1.56, 1.70, 2.05)

@@ -32,6 +32,7 @@ from __future__ import annotations
 
 from collections.abc import Callable
 from dataclasses import dataclass, replace
+from functools import partial
 
 import numpy as np
 
@@ -386,6 +387,12 @@ SCENARIOS: dict[str, ScenarioSpec] = {
         "handrail_stairs",
         handrail_stairs_motion,
         "Murooka 2022 Fig. 4 (B): climbing four 150 mm steps, hands grasping the handrails",
+        requires=MULTI_CONTACT,
+    ),
+    "handrail_stairs_resting": ScenarioSpec(
+        "handrail_stairs_resting",
+        partial(handrail_stairs_motion, resting=True),
+        "Murooka 2022 Fig. 4 (B), the hands resting on the rails (unilateral): Sec. V-G",
         requires=MULTI_CONTACT,
     ),
     "ladder": ScenarioSpec(

@@ -9,6 +9,11 @@ moment about the world origin) is w_i = G_i lambda_i with lambda_i >= 0 and
     G_i = [ ... rho_{j,k} ... ; ... p_j x rho_{j,k} ... ]      (eq. 8)
 A grasp contact (Fig. 4C: a hand around a rung) adds, at each vertex, the opposing pyramid
 (normal -n), so the limb can pull as well as push.
+
+A surface may lie elsewhere than in the limb's contact frame (`ContactSurface.rotation_in_frame`,
+`origin_in_frame`): a hand resting on a rail in the pose that grasps it touches the rail's top,
+whose normal is not the hand frame's z axis. Its polygon and pyramids are then those of the
+surface's own frame, placed by the limb's pose.
 """
 
 from __future__ import annotations
@@ -23,11 +28,15 @@ from centroidal.wrench import cross
 
 @dataclass(frozen=True)
 class ContactSurface:
-    """vertices_in_frame (J, 2) [m] in the contact frame's x-y plane; mu; grasp."""
+    """vertices_in_frame (J, 2) [m] in the surface frame's x-y plane; mu; grasp. The surface
+    frame is the limb's contact frame unless `rotation_in_frame` (3, 3) / `origin_in_frame` (3,)
+    [m] give its orientation and origin in the contact frame (its z axis is the normal)."""
 
     vertices_in_frame: np.ndarray
     friction: float
     grasp: bool = False
+    rotation_in_frame: np.ndarray | None = None
+    origin_in_frame: np.ndarray | None = None
 
     @staticmethod
     def rectangle(
@@ -57,6 +66,10 @@ def generator_matrix(
 ) -> np.ndarray:
     """G_i (6, n_ridges) of eq. 8 for a surface whose contact frame has this pose: columns
     [rho; p x rho] in world coordinates, moments about the world origin."""
+    if surface.origin_in_frame is not None:
+        position_world = position_world + rotation_world @ surface.origin_in_frame
+    if surface.rotation_in_frame is not None:
+        rotation_world = rotation_world @ surface.rotation_in_frame
     ridges = ridges_in_frame(surface.friction) @ rotation_world.T  # (4, 3) world
     if surface.grasp:
         ridges = np.vstack([ridges, -ridges])

@@ -32,11 +32,24 @@ class PhaseContacts:
 
     def surface_of(self, contact: Contact) -> ContactSurface:
         """The contact's surface: the limb's (as a grasp if it grasps), or its own polygon
-        (`Contact.support_in_frame`) with the limb's friction."""
+        (`Contact.support_in_frame`) with the limb's friction, in its own frame when it has one
+        (`Contact.surface_pose_world`)."""
         surface = (self.grasping if contact.grasp else self.surfaces)[contact.limb]
         if contact.support_in_frame is not None:
             surface = replace(
                 surface, vertices_in_frame=np.array(contact.support_in_frame, dtype=float)
+            )
+        if contact.surface_pose_world is not None:  # the surface's frame in the contact frame
+            origin, orientation = contact.surface_pose_world
+            frame = to_matrix(contact.orientation_world)
+            surface = replace(
+                surface,
+                rotation_in_frame=frame.T @ to_matrix(orientation),
+                origin_in_frame=frame.T
+                @ (
+                    np.asarray(origin, dtype=float)
+                    - np.asarray(contact.position_world, dtype=float)
+                ),
             )
         return surface
 

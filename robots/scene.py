@@ -225,8 +225,24 @@ class Contact:
     grasp: bool = False
     support_in_frame: tuple[tuple[float, float], ...] | None = None
     """Where only part of the limb's surface touches (a foot's toes on a ladder rung, Fig. 4 C):
-    the vertices (x, y) [m] of the polygon that does, in the contact frame's x-y plane, inner
-    margin included; None: the limb's whole surface (`robots.limbs.limb_surfaces`)."""
+    the vertices (x, y) [m] of the polygon that does, in the contact frame's x-y plane (the
+    surface's, with `surface_pose_world`), inner margin included; None: the limb's whole
+    surface (`robots.limbs.limb_surfaces`)."""
+    surface_pose_world: (
+        tuple[tuple[float, float, float], tuple[float, float, float, float]] | None
+    ) = None
+    """The touching surface's frame when it is not the contact frame: origin [m] and
+    orientation (w, x, y, z) in the world, z the normal along which the environment pushes (a
+    hand resting on a rail in its grasping pose pushes on the rail's top); `support_in_frame`
+    is then required, in that frame's x-y plane. None: the contact frame's."""
+    held: bool = False
+    """The scene holds the limb where it is for the contact's time with a `Grasp` (a weld),
+    though its cone cannot pull (not `grasp`): a hand resting on a rail that it could not keep
+    on the rail's top otherwise (`handrail_stairs_resting`). A grasp is always held."""
+
+    def __post_init__(self) -> None:
+        if self.surface_pose_world is not None and self.support_in_frame is None:
+            raise ValueError(f"{self.limb!r}: a surface_pose_world needs its support_in_frame")
 
 
 @dataclass(frozen=True)

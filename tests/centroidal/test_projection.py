@@ -135,6 +135,35 @@ def test_single_sole_wrench_cone_facts():
     assert np.linalg.norm(projector.project(grasp, pull)[0] - pull) < 1e-3
 
 
+def test_a_surface_in_its_own_frame_is_that_frame_s_plain_surface():
+    """`ContactSurface.rotation_in_frame` / `origin_in_frame`: the limb's contact frame at
+    (p_c, R_c) carrying a surface at (o, R_s) in it gives the generator of the plain surface at
+    (p_c + R_c o, R_c R_s); a surface turned 90 deg about x holds a push along the contact
+    frame's -y, which the frame's own surface cannot."""
+    from dataclasses import replace
+
+    from scipy.spatial.transform import Rotation
+
+    surface = ContactSurface.rectangle(0.03, 0.01, 0.6)
+    r_c = Rotation.from_euler("zyx", [30, -20, 50], degrees=True).as_matrix()
+    p_c = np.array([0.3, -0.2, 1.1])
+    r_s = Rotation.from_euler("x", 90, degrees=True).as_matrix()
+    o = np.array([0.01, -0.02, -0.05])
+    turned = replace(surface, rotation_in_frame=r_s, origin_in_frame=o)
+    np.testing.assert_allclose(
+        generator_matrix(turned, p_c, r_c),
+        generator_matrix(surface, p_c + r_c @ o, r_c @ r_s),
+        atol=1e-15,
+    )
+    projector = WrenchProjector()
+    force = np.array([0.0, -100.0, 0.0])  # along -y of an upright frame, through o
+    push = np.concatenate([force, np.cross(o, force)])
+    for candidate, held in ((replace(surface, origin_in_frame=o), False), (turned, True)):
+        g = generator_matrix(candidate, np.zeros(3), np.eye(3))
+        error = np.linalg.norm(projector.project(g, push)[0] - push)
+        assert (error < 1e-6) == held
+
+
 def test_contact_set_reads_back_each_limb_wrench():
     surfaces = [ContactSurface.rectangle(0.11, 0.06, 0.6)] * 2
     contacts = contact_set(
