@@ -12,6 +12,7 @@ formulation and solver (Sec. V-E: Audren's MPC takes 20 ms for 20 samples).
 
 from __future__ import annotations
 
+import multiprocessing
 import os
 import time
 from collections.abc import Callable, Sequence
@@ -20,9 +21,10 @@ from concurrent.futures import ProcessPoolExecutor
 import numpy as np
 import pandas as pd
 
+from bench.executors import single_threaded_workers
 from bench.metrics import feedback_magnitude
 from bench.runner import EpisodeSpec, run_episode
-from reports.paper_figures import PAPER_SEC_V_G
+from reports.paper_figures import PAPER_SCENARIO, PAPER_SEC_V_G
 from robots.model import RobotModel, cached_model
 from robots.robot_registry import DEFAULT_ROBOT, make_robot
 
@@ -88,7 +90,9 @@ def planned_angular_momentum_scale(trace: pd.DataFrame, model: RobotModel) -> fl
     """[kg m^2/s] the mean of ||L^p|| over the trace, the planned centroidal angular momentum
     L^p = I omega^p of Murooka eq. 6 (I the constant diagonal inertia, `RobotModel.
     constant_inertia`, that preview control and the linear MPC plan with; omega^p the plan's
-    base angular velocity, world axes)."""
+    base angular velocity, world axes, as each planner reports it: preview control's planned
+    state at the period's start, the linear MPC's after one period with the projected wrench,
+    one period's integration apart)."""
     omega = trace[[f"base_angular_velocity_planned_{axis}" for axis in "xyz"]].to_numpy()
     return float(np.linalg.norm(omega * np.diag(model.constant_inertia()), axis=1).mean())
 
@@ -96,6 +100,7 @@ def planned_angular_momentum_scale(trace: pd.DataFrame, model: RobotModel) -> fl
 def paper_rows(scenario: str, planners: Sequence[str]) -> pd.DataFrame | None:
     """`PAPER_SEC_V_G`'s rows for `scenario` and `planners` (those the paper has), as a table
     with the comparison's error columns; None if the paper has none for the scenario."""
+    scenario = PAPER_SCENARIO.get(scenario, scenario)
     rows = [
         {"planner": planner, "sim": "paper (Choreonoid)", **PAPER_SEC_V_G[(scenario, planner)]}
         for planner in planners
@@ -126,7 +131,8 @@ def compare(
     ]
     workers = workers or min(len(specs), os.cpu_count() or 1)
     rows = []
-    with ProcessPoolExecutor(workers) as pool:
+    single_threaded_workers()  # spawned below, they load BLAS with one thread each
+    with ProcessPoolExecutor(workers, mp_context=multiprocessing.get_context("spawn")) as pool:
         for row in pool.map(_row, specs):
             rows.append(row)
             if progress is not None:

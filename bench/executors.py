@@ -112,6 +112,16 @@ _THREAD_VARIABLES = ("OMP_NUM_THREADS", "OPENBLAS_NUM_THREADS", "MKL_NUM_THREADS
 _progress: Any = None  # this worker's shared [stage code, simulated time], if it is one
 
 
+def single_threaded_workers() -> None:
+    """One BLAS / OpenMP thread per worker process started after this call (they inherit this
+    process's environment; a value the user set is kept): a pool already uses every core, and
+    the episodes' small matrix products lose more to oversubscribed threads than they gain
+    (measured: 5-10 % faster per episode with 2 workers on 2 cores; the linear MPC's p99
+    update on Murooka's (B) 114 ms with two threads per worker against 5 ms with one)."""
+    for variable in _THREAD_VARIABLES:
+        os.environ.setdefault(variable, "1")
+
+
 def worker_progress() -> Any:
     """The shared-memory progress slot of this worker process (None outside a worker): what
     `bench.runner.run_episode` writes its stage and simulated time into."""
@@ -324,12 +334,7 @@ class LocalExecutor:
         self._start_failures = 0  # workers that died before they were given work
 
     def _start_worker(self, fn: Callable[[Any], Any] | None, number: int) -> _Worker:
-        # One BLAS / OpenMP thread per worker: the pool already uses every core, and the
-        # episodes' small matrix products lose more to oversubscribed threads than they gain
-        # (measured: 5-10 % faster per episode with 2 workers on 2 cores). The workers inherit
-        # this process's environment; a value the user set is kept.
-        for variable in _THREAD_VARIABLES:
-            os.environ.setdefault(variable, "1")
+        single_threaded_workers()
         assert self._folder is not None
         return _Worker(multiprocessing.get_context("spawn"), fn, self._folder, number)
 

@@ -28,6 +28,7 @@ from dataclasses import dataclass, field, replace
 import numpy as np
 import pandas as pd
 
+from bench.actuation import TorqueUse
 from bench.branching import Brancher, BranchesDone
 from bench.footsteps import (
     FootstepRecorder,
@@ -342,6 +343,7 @@ def _run_episode(
         "final_yaw_error_rad": None,
         "hand_error_final_m": None,
         "angular_momentum_error": None,
+        **TorqueUse((), np.zeros(0)).summary(),
         "latency_by_contacts_us": {},
         "replica": spec.replica,
         **(spec.perturbation or NOMINAL).columns(),
@@ -355,6 +357,7 @@ def _run_episode(
         perturbation = spec.perturbation or NOMINAL
         simulated = simulated_robot(robot, perturbation, spec.seed)  # the controller has `model`
         truth = model if simulated is robot else cached_model(simulated)  # for the record
+        torque_use = TorqueUse(simulated.joint_names, simulated.array("torque_limit"))
         scenario = _pushed(spec, model)
         scene = scenario.scene
         # the ground the simulator has (the controllers keep the scenario's: flat)
@@ -469,6 +472,7 @@ def _run_episode(
             start = time.perf_counter_ns()
             measured = sensors = sim.step(command)
             timings["sim"] = time.perf_counter_ns() - start
+            torque_use.observe(measured.joint_torque)
             if sensor_model is not None:
                 sensors = sensor_model.observe(measured)
             timings["sim_engine"] = sim.engine_ns
@@ -539,6 +543,7 @@ def _run_episode(
             "max": float(iterations.max()),
         }
     summary["angular_momentum_error"] = momentum.summary()
+    summary.update(torque_use.summary())
     if "hand_error_m" in frame and len(frame):
         last = float(frame["hand_error_m"].iloc[-1])
         summary["hand_error_final_m"] = last if math.isfinite(last) else None

@@ -40,9 +40,14 @@ MOTION_LABELS = {
 }
 """The scenarios of Murooka et al.'s Fig. 4 (A)-(C), where Table IV and Sec. V-G are measured."""
 
+PAPER_SCENARIO = {"handrail_stairs_resting": "handrail_stairs"}
+"""Our variants of the paper's motions and the motion whose published numbers they are set
+beside ((B) with the hands resting on the rails instead of grasping them)."""
+
 MOTION_FIGURES = {
     "hand_wall": "Fig. 5",
     "handrail_stairs": "Fig. 6",
+    "handrail_stairs_resting": "Fig. 6",
     "ladder": "Fig. 7",
     "hand_supports": "Figs. 5-7 style, Fig. 4 (D)",
     "moving_contacts": "Figs. 5-7 style, Fig. 4 (E)",

@@ -36,6 +36,8 @@ from centroidal.contacts import ContactSet, contact_set
 from centroidal.kernels import damping_control
 from centroidal.projection import DEFAULT_BACKEND, WrenchProjector, gravity_offset
 from centroidal.rotations import (
+    from_matrix,
+    quaternion_multiply,
     rotation_error,
     skew,
     to_matrices,
@@ -132,6 +134,12 @@ class _ContactConfiguration:
     kd: np.ndarray  # (limbs, 6) Table II parameters per limb for this configuration
     ks: np.ndarray
     kf: np.ndarray
+    axes: np.ndarray | None = None
+    """(limbs, 3, 3) the damping's axes per limb in its contact frame: a contact surface's own
+    frame (`ContactSurface.rotation_in_frame`: a hand resting on a rail, whose normal is not
+    the hand frame's z), identity elsewhere; None when every limb's are its contact frame's."""
+    axes_origin: np.ndarray | None = None
+    """(limbs, 3) [m] that frame's origin in the contact frame (moments are taken about it)."""
 
 
 class CentroidalFeedbackStabilizer:
@@ -157,6 +165,7 @@ class CentroidalFeedbackStabilizer:
         self.compliance_angular = np.zeros((len(self.limbs), 3))
         self._cache_key, self._cache = None, None
         self._index_of: dict[tuple[str, ...], np.ndarray] = {}
+        self._damping_axes: np.ndarray | None = None  # the compliances' axes (None: frames')
 
     def _configuration(self, plan: CentroidalPlan) -> _ContactConfiguration:
         """G and the per-limb data of the plan's contacts at their target poses (cached)."""
@@ -212,11 +221,39 @@ class CentroidalFeedbackStabilizer:
         height = float(positions[index, 2].mean()) if len(index) else 0.0
         in_contact = np.zeros(len(self.limb_names), dtype=bool)
         in_contact[index] = True
+        axes = axes_origin = None
+        for k in index:
+            surface = surface_of[self.limb_names[k]]
+            if surface.rotation_in_frame is not None or surface.origin_in_frame is not None:
+                if axes is None:
+                    axes = np.tile(np.eye(3), (len(self.limb_names), 1, 1))
+                    axes_origin = np.zeros((len(self.limb_names), 3))
+                if surface.rotation_in_frame is not None:
+                    axes[k] = surface.rotation_in_frame
+                if surface.origin_in_frame is not None:
+                    axes_origin[k] = surface.origin_in_frame
         self._cache = _ContactConfiguration(
-            contacts, index, in_contact, to_limb_frames, height, kd, ks, kf
+            contacts, index, in_contact, to_limb_frames, height, kd, ks, kf, axes, axes_origin
         )
         self._cache_key = key
         return self._cache
+
+    def _change_damping_axes(self, axes: np.ndarray | None) -> None:
+        """The compliances are vectors in each limb's damping axes; when a limb's axes change
+        (its contact surface's frame comes or goes), its compliance is re-expressed in the new
+        ones (the same displacement and rotation of the limb end)."""
+        old = self._damping_axes
+        if old is None and axes is None:
+            return
+        eye = np.eye(3)
+        for k in range(len(self.limb_names)):
+            before = eye if old is None else old[k]
+            after = eye if axes is None else axes[k]
+            if not np.array_equal(before, after):
+                change = after.T @ before
+                self.compliance_linear[k] = change @ self.compliance_linear[k]
+                self.compliance_angular[k] = change @ self.compliance_angular[k]
+        self._damping_axes = axes
 
     def desired_wrench(self, plan: CentroidalPlan, state: RobotState) -> np.ndarray:
         """w-bar^d (eqs. 11-12): the projected planned wrench plus the centroidal PD."""
@@ -253,13 +290,22 @@ class CentroidalFeedbackStabilizer:
             )
         after_distribution = time.perf_counter_ns()
 
-        # eqs. 15-16: damping control of every limb end at once (world-axes errors).
+        # eqs. 15-16: damping control of every limb end at once, per axis of each contact's
+        # frame (of its surface's own frame where it has one: `_surface_axes`).
         c = configuration
-        compliant_position, compliant_orientation = damping_control(
-            plan.limb_target_position_world,
+        self._change_damping_axes(c.axes)
+        targets, measured, desired = (
             plan.limb_target_orientation_world,
             state.contact_wrench_limb,
             desired_limb,
+        )
+        if c.axes is not None:
+            targets, measured, desired = _surface_axes(c, targets, measured, desired)
+        compliant_position, compliant_orientation = damping_control(
+            plan.limb_target_position_world,
+            targets,
+            measured,
+            desired,
             c.kd,
             c.ks,
             c.kf,
@@ -267,6 +313,10 @@ class CentroidalFeedbackStabilizer:
             self.compliance_linear,
             self.compliance_angular,
         )
+        if c.axes is not None:  # back to the limbs' contact frames: R_c R_s exp(p) R_s^T
+            compliant_orientation = quaternion_multiply(
+                compliant_orientation, np.array([from_matrix(r.T) for r in c.axes])
+            )
         end = time.perf_counter_ns()
 
         return WholeBodyTargets(
@@ -287,6 +337,25 @@ class CentroidalFeedbackStabilizer:
             limb_tracked=plan.limb_tracked,
             wrench_distributed_world=distributed - offset,
         )
+
+
+def _surface_axes(
+    c: _ContactConfiguration, targets: np.ndarray, measured: np.ndarray, desired: np.ndarray
+) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """The damping's inputs in each limb's damping axes (`_ContactConfiguration.axes`, R_s,
+    origin o in the contact frame): target orientations R_c R_s, and the measured and desired
+    wrenches (force f, moment m about the contact frame's origin, contact-frame axes) as
+    R_s^T f and R_s^T (m - o x f), so that Table II's normal and tangential entries act along
+    the surface's normal and tangents, as eq. 15 is written."""
+    turned = quaternion_multiply(
+        np.asarray(targets, dtype=float), np.array([from_matrix(r) for r in c.axes])
+    )
+    wrenches = []
+    for wrench in (measured, desired):
+        force = np.einsum("kji,kj->ki", c.axes, wrench[:, :3])  # R_s^T f per limb
+        moment = wrench[:, 3:] - np.cross(c.axes_origin, wrench[:, :3])
+        wrenches.append(np.hstack([force, np.einsum("kji,kj->ki", c.axes, moment)]))
+    return turned, wrenches[0], wrenches[1]
 
 
 register(

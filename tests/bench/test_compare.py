@@ -84,32 +84,34 @@ def test_standing_still_plans_no_angular_momentum(table):
     assert table.iloc[1]["angular_momentum_kgm2ps"] < 1e-3
 
 
-def test_angular_momentum_scale_is_the_constant_inertia_times_the_planned_rate():
-    """L^p = I omega^p (Murooka eq. 6) from the trace's planned base rate: computed by hand
-    here per axis, and not zero on a walk, where the plan turns the base as the feet move."""
+def test_angular_momentum_scale_is_the_constant_inertia_times_the_planned_rate(monkeypatch):
+    """L^p = I omega^p (Murooka eq. 6): the trace's `base_angular_velocity_planned_*` are the
+    plans' own rates, period by period (recorded here from the planner's output), and the scale
+    is the mean of ||I omega^p|| over them, not zero on a turning walk, where the plan turns the
+    base as the feet turn."""
     from bench.compare import planned_angular_momentum_scale
+    from planners.preview_control import PreviewControlPlanner
     from robots.model import RobotModel
     from robots.robot_registry import make_robot
 
+    rates = []
+    plan = PreviewControlPlanner.plan
+
+    def recording(self, t, state):
+        result = plan(self, t, state)
+        rates.append(np.array(result.base_angular_velocity_planned_world))
+        return result
+
+    monkeypatch.setattr(PreviewControlPlanner, "plan", recording)
     result = run_episode(
         EpisodeSpec("preview_control", "centroidal_feedback", "mujoco", "walk_turn", duration=2.0)
     )
-    model = RobotModel(make_robot())
-    inertia = model.constant_inertia()
     trace = result.trace
-    by_hand = np.mean(
-        [
-            np.sqrt(
-                sum(
-                    (inertia[k, k] * row[f"base_angular_velocity_planned_{a}"]) ** 2
-                    for k, a in enumerate("xyz")
-                )
-            )
-            for _, row in trace.iterrows()
-        ]
-    )
-    scale = planned_angular_momentum_scale(trace, model)
-    assert scale == pytest.approx(by_hand, rel=1e-12)
+    recorded = trace[[f"base_angular_velocity_planned_{a}" for a in "xyz"]].to_numpy()
+    np.testing.assert_array_equal(recorded, np.array(rates))
+    inertia = np.diag(RobotModel(make_robot()).constant_inertia())
+    scale = planned_angular_momentum_scale(trace, RobotModel(make_robot()))
+    assert scale == pytest.approx(np.mean(np.linalg.norm(np.array(rates) * inertia, axis=1)))
     assert scale > 1e-3  # the turning walk's plan rotates the base
 
 
@@ -122,3 +124,6 @@ def test_the_papers_sec_v_g_rows_come_with_stairs_and_ladder_only():
     assert stairs.iloc[1][["planned_force_N", "planned_moment_Nm"]].tolist() == [0.0, 0.0]
     assert stairs.iloc[0]["planned_force_N"] > 0
     assert paper_rows("walk", ["preview_control"]) is None
+    # (B) with the hands resting is set beside the paper's (B)
+    resting = paper_rows("handrail_stairs_resting", ["preview_control", "linear_mpc"])
+    assert resting.equals(stairs)

@@ -244,3 +244,55 @@ def test_distribution_uses_the_plans_contact_polygons(standing):
         assert x == pytest.approx(com_x - sole[0], abs=0.005)
     for x in cop[False]:
         assert 0.03 - 1e-6 <= x <= 0.10 + 1e-6
+
+
+def test_damping_acts_along_a_contact_surfaces_own_axes(standing):
+    """A contact whose surface has its own frame (`ContactSurface.rotation_in_frame` R_s,
+    origin o: a hand resting on a rail in its grasping pose) is damped per axis of that frame,
+    as eq. 15 is written for the contact's normal and tangents (Table II's contact row): a
+    moment error about the surface's normal moves nothing (K_f 0 for it), one about its
+    tangent turns the limb about that tangent at K_f e / K_d (100), and a force error along
+    the normal through o moves the limb along the normal at e / K_d (1e4). The limb's own z
+    axis is not the normal here: damped in the limb frame's axes, the first would turn it."""
+    from dataclasses import replace
+
+    from scipy.spatial.transform import Rotation
+
+    from centroidal.rotations import log, to_matrix
+    from robots.limbs import limb_surfaces
+
+    model, scenario, state = standing
+    names = model.robot.limb_names
+    feet = ("left_foot", "right_foot")
+    left = names.index("left_foot")
+    surfaces = limb_surfaces(model.robot, scenario.scene.friction)
+    turn = Rotation.from_euler("x", 90, degrees=True).as_matrix()  # normal: the sole's -y
+    origin = np.array([0.02, -0.03, 0.01])
+    own = replace(surfaces["left_foot"], rotation_in_frame=turn, origin_in_frame=origin)
+    stabilizer, plan = _stabilizer_and_plan(standing, feet)
+    plan = replace(plan, contact_surfaces=(own, surfaces["right_foot"]))
+    desired = stabilizer.stabilize(0.0, plan, state).contact_wrench_desired_limb
+    frame = to_matrix(plan.limb_target_orientation_world[left])
+    target = plan.limb_target_position_world[left]
+
+    def step(force_surface, moment_surface):
+        stabilizer.compliance_linear[:] = 0.0
+        stabilizer.compliance_angular[:] = 0.0
+        measured = desired.copy()
+        force = turn @ np.asarray(force_surface, dtype=float)  # in the sole frame
+        measured[left, :3] += force
+        measured[left, 3:] += turn @ np.asarray(moment_surface, dtype=float) + np.cross(
+            origin, force
+        )
+        out = stabilizer.stabilize(DT, plan, _with_wrenches(state, measured))
+        turned = log(frame.T @ to_matrix(out.limb_orientation_world[left]))  # sole frame
+        return out.limb_position_world[left] - target, turned
+
+    moved, turned = step([0, 0, 0], [0, 0, 5.0])  # about the normal
+    np.testing.assert_allclose(turned, 0.0, atol=1e-12)
+    np.testing.assert_allclose(moved, 0.0, atol=1e-12)
+    moved, turned = step([0, 0, 0], [2.0, 0, 0])  # about a tangent
+    np.testing.assert_allclose(turned, turn @ [2.0 / 100 * DT, 0, 0], atol=1e-12)
+    moved, turned = step([0, 0, 100.0], [0, 0, 0])  # along the normal, through o
+    np.testing.assert_allclose(moved, frame @ turn @ [0, 0, 100.0 / 1e4 * DT], atol=1e-12)
+    np.testing.assert_allclose(turned, 0.0, atol=1e-12)
