@@ -140,6 +140,11 @@ class _ContactConfiguration:
     the hand frame's z), identity elsewhere; None when every limb's are its contact frame's."""
     axes_origin: np.ndarray | None = None
     """(limbs, 3) [m] that frame's origin in the contact frame (moments are taken about it)."""
+    axes_quaternions: tuple[np.ndarray, np.ndarray] | None = None
+    """(limbs, 4) the axes as quaternions (w, x, y, z), and their inverses."""
+    axes_wrench: np.ndarray | None = None
+    """(limbs, 6, 6) a limb-frame wrench (f, m about the contact frame's origin) to the damping
+    axes: [R^T, 0; -R^T [o]x, R^T] (the moment about o)."""
 
 
 class CentroidalFeedbackStabilizer:
@@ -232,8 +237,27 @@ class CentroidalFeedbackStabilizer:
                     axes[k] = surface.rotation_in_frame
                 if surface.origin_in_frame is not None:
                     axes_origin[k] = surface.origin_in_frame
+        quaternions = to_axes = None
+        if axes is not None:
+            turn = np.array([from_matrix(r) for r in axes])
+            quaternions = (turn, turn * np.array([1.0, -1.0, -1.0, -1.0]))
+            to_axes = np.zeros((len(self.limb_names), 6, 6))
+            for k, (r, o) in enumerate(zip(axes, axes_origin, strict=True)):
+                to_axes[k, :3, :3] = to_axes[k, 3:, 3:] = r.T
+                to_axes[k, 3:, :3] = -r.T @ skew(o)
         self._cache = _ContactConfiguration(
-            contacts, index, in_contact, to_limb_frames, height, kd, ks, kf, axes, axes_origin
+            contacts,
+            index,
+            in_contact,
+            to_limb_frames,
+            height,
+            kd,
+            ks,
+            kf,
+            axes,
+            axes_origin,
+            quaternions,
+            to_axes,
         )
         self._cache_key = key
         return self._cache
@@ -243,7 +267,7 @@ class CentroidalFeedbackStabilizer:
         (its contact surface's frame comes or goes), its compliance is re-expressed in the new
         ones (the same displacement and rotation of the limb end)."""
         old = self._damping_axes
-        if old is None and axes is None:
+        if old is axes:  # the same configuration (or none with axes of their own)
             return
         eye = np.eye(3)
         for k in range(len(self.limb_names)):
@@ -315,7 +339,7 @@ class CentroidalFeedbackStabilizer:
         )
         if c.axes is not None:  # back to the limbs' contact frames: R_c R_s exp(p) R_s^T
             compliant_orientation = quaternion_multiply(
-                compliant_orientation, np.array([from_matrix(r.T) for r in c.axes])
+                compliant_orientation, c.axes_quaternions[1]
             )
         end = time.perf_counter_ns()
 
@@ -347,15 +371,9 @@ def _surface_axes(
     wrenches (force f, moment m about the contact frame's origin, contact-frame axes) as
     R_s^T f and R_s^T (m - o x f), so that Table II's normal and tangential entries act along
     the surface's normal and tangents, as eq. 15 is written."""
-    turned = quaternion_multiply(
-        np.asarray(targets, dtype=float), np.array([from_matrix(r) for r in c.axes])
-    )
-    wrenches = []
-    for wrench in (measured, desired):
-        force = np.einsum("kji,kj->ki", c.axes, wrench[:, :3])  # R_s^T f per limb
-        moment = wrench[:, 3:] - np.cross(c.axes_origin, wrench[:, :3])
-        wrenches.append(np.hstack([force, np.einsum("kji,kj->ki", c.axes, moment)]))
-    return turned, wrenches[0], wrenches[1]
+    turned = quaternion_multiply(np.asarray(targets, dtype=float), c.axes_quaternions[0])
+    both = c.axes_wrench @ np.stack([measured, desired], axis=2)  # (limbs, 6, 2)
+    return turned, both[:, :, 0], both[:, :, 1]
 
 
 register(
