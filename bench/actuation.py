@@ -24,13 +24,16 @@ class TorqueUse:
 
     def __init__(self, joint_names: Sequence[str], limits: np.ndarray) -> None:
         self.joint_names = tuple(joint_names)
-        self.inverse_limits = 1.0 / np.asarray(limits, dtype=float)
+        limits = np.asarray(limits, dtype=float)
+        self.locked = limits <= 0.0  # a zero limit (torque_scale 0): always at it, share 1
+        self.inverse_limits = np.where(self.locked, 0.0, 1.0 / np.where(self.locked, 1.0, limits))
         self.peak = np.zeros(len(self.joint_names))  # per joint: max |tau| / limit
         self.periods = 0
         self.saturated = 0  # periods with some joint at its limit
 
     def observe(self, joint_torque: np.ndarray) -> None:
         share = np.abs(joint_torque) * self.inverse_limits
+        share[self.locked] = 1.0
         np.maximum(self.peak, share, out=self.peak)
         self.periods += 1
         if share.max(initial=0.0) >= AT_LIMIT:

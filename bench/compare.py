@@ -131,8 +131,11 @@ def compare(
     ]
     workers = workers or min(len(specs), os.cpu_count() or 1)
     rows = []
-    single_threaded_workers()  # spawned below, they load BLAS with one thread each
-    with ProcessPoolExecutor(workers, mp_context=multiprocessing.get_context("spawn")) as pool:
+    # spawned (at submit) inside the context, the workers load BLAS with one thread each
+    with (
+        single_threaded_workers(),
+        ProcessPoolExecutor(workers, mp_context=multiprocessing.get_context("spawn")) as pool,
+    ):
         for row in pool.map(_row, specs):
             rows.append(row)
             if progress is not None:

@@ -112,14 +112,25 @@ _THREAD_VARIABLES = ("OMP_NUM_THREADS", "OPENBLAS_NUM_THREADS", "MKL_NUM_THREADS
 _progress: Any = None  # this worker's shared [stage code, simulated time], if it is one
 
 
-def single_threaded_workers() -> None:
-    """One BLAS / OpenMP thread per worker process started after this call (they inherit this
-    process's environment; a value the user set is kept): a pool already uses every core, and
-    the episodes' small matrix products lose more to oversubscribed threads than they gain
-    (measured: 5-10 % faster per episode with 2 workers on 2 cores; the linear MPC's p99
-    update on Murooka's (B) 114 ms with two threads per worker against 5 ms with one)."""
+@contextlib.contextmanager
+def single_threaded_workers() -> Iterator[None]:
+    """One BLAS / OpenMP thread per worker process started inside this context (they inherit
+    this process's environment, which is restored on leaving; a value the user set is kept):
+    a pool already uses every core, and the episodes' small matrix products lose more to
+    oversubscribed threads than they gain (measured: 5-10 % faster per episode with 2 workers
+    on 2 cores; the linear MPC's p99 update on Murooka's (B) 114 ms with two threads per
+    worker against 5 ms with one)."""
+    before = {variable: os.environ.get(variable) for variable in _THREAD_VARIABLES}
     for variable in _THREAD_VARIABLES:
         os.environ.setdefault(variable, "1")
+    try:
+        yield
+    finally:
+        for variable, value in before.items():
+            if value is None:
+                os.environ.pop(variable, None)
+            else:
+                os.environ[variable] = value
 
 
 def worker_progress() -> Any:
@@ -334,9 +345,9 @@ class LocalExecutor:
         self._start_failures = 0  # workers that died before they were given work
 
     def _start_worker(self, fn: Callable[[Any], Any] | None, number: int) -> _Worker:
-        single_threaded_workers()
         assert self._folder is not None
-        return _Worker(multiprocessing.get_context("spawn"), fn, self._folder, number)
+        with single_threaded_workers():  # the worker starts (spawns) in its constructor
+            return _Worker(multiprocessing.get_context("spawn"), fn, self._folder, number)
 
     def map_unordered(
         self,

@@ -165,7 +165,8 @@ class CentroidalFeedbackStabilizer:
         friction = scenario.scene.friction
         self.surfaces = limb_surfaces(description, friction)
         self.grasping = grasp_surfaces(self.surfaces)
-        # Delta r^c of every limb end (eq. 15): linear [m] and rotation vector [rad], world axes.
+        # Delta r^c of every limb end (eq. 15): linear [m] and rotation vector [rad], in each
+        # limb's damping axes (its contact frame's, or its contact surface's own: `axes`).
         self.compliance_linear = np.zeros((len(self.limbs), 3))
         self.compliance_angular = np.zeros((len(self.limbs), 3))
         self._cache_key, self._cache = None, None
@@ -341,6 +342,12 @@ class CentroidalFeedbackStabilizer:
             compliant_orientation = quaternion_multiply(
                 compliant_orientation, c.axes_quaternions[1]
             )
+            # the surface's frame turns about its own origin o: the limb frame's origin moves
+            # by (R_c - R_limb) o (zero for limbs with o = 0)
+            turn = to_matrices(plan.limb_target_orientation_world) - to_matrices(
+                compliant_orientation
+            )
+            compliant_position = compliant_position + (turn @ c.axes_origin[:, :, None])[:, :, 0]
         end = time.perf_counter_ns()
 
         return WholeBodyTargets(

@@ -24,6 +24,16 @@ def test_torque_use_counts_shares_and_clipped_periods():
     }
 
 
+def test_a_joint_without_torque_is_at_its_limit():
+    use = TorqueUse(("knee", "ankle"), np.array([10.0, 0.0]))  # torque_scale 0 on the ankle
+    use.observe(np.array([5.0, 0.0]))
+    assert use.summary() == {
+        "torque_share_max": 1.0,
+        "torque_share_joint": "ankle",
+        "torque_saturated_fraction": 1.0,
+    }
+
+
 @pytest.mark.parametrize("sim", ["mujoco", "pybullet"])
 def test_standing_uses_part_of_the_limits_and_weak_joints_clip(sim):
     """Standing, the humanoid needs well under its joints' limits (no period clipped: the

@@ -127,3 +127,19 @@ def test_the_papers_sec_v_g_rows_come_with_stairs_and_ladder_only():
     # (B) with the hands resting is set beside the paper's (B)
     resting = paper_rows("handrail_stairs_resting", ["preview_control", "linear_mpc"])
     assert resting.equals(stairs)
+
+
+def test_single_threaded_workers_sets_one_thread_inside_and_restores_the_environment(
+    monkeypatch,
+):
+    import os
+
+    from bench.executors import single_threaded_workers
+
+    monkeypatch.delenv("OPENBLAS_NUM_THREADS", raising=False)
+    monkeypatch.setenv("OMP_NUM_THREADS", "3")  # the user's own value is kept
+    with single_threaded_workers():
+        assert os.environ["OPENBLAS_NUM_THREADS"] == "1"
+        assert os.environ["OMP_NUM_THREADS"] == "3"
+    assert "OPENBLAS_NUM_THREADS" not in os.environ
+    assert os.environ["OMP_NUM_THREADS"] == "3"

@@ -249,16 +249,17 @@ def test_distribution_uses_the_plans_contact_polygons(standing):
 def test_damping_acts_along_a_contact_surfaces_own_axes(standing):
     """A contact whose surface has its own frame (`ContactSurface.rotation_in_frame` R_s,
     origin o: a hand resting on a rail in its grasping pose) is damped per axis of that frame,
-    as eq. 15 is written for the contact's normal and tangents (Table II's contact row): a
-    moment error about the surface's normal moves nothing (K_f 0 for it), one about its
-    tangent turns the limb about that tangent at K_f e / K_d (100), and a force error along
-    the normal through o moves the limb along the normal at e / K_d (1e4). The limb's own z
-    axis is not the normal here: damped in the limb frame's axes, the first would turn it."""
+    as eq. 15 is written for the contact's normal and tangents (Table II's contact row), and
+    the surface frame turns about o: a moment error about the surface's normal moves nothing
+    (K_f 0 for it); one about its y tangent turns the limb about that tangent at K_f e / K_d
+    (100), and the limb's origin by (R_c - R_limb) o; a force error along the normal through o
+    moves the limb along the normal at e / K_d (1e4). A general R_s and a turned target: damped
+    in the limb frame's axes, or with R_s on the wrong side, these fail."""
     from dataclasses import replace
 
     from scipy.spatial.transform import Rotation
 
-    from centroidal.rotations import log, to_matrix
+    from centroidal.rotations import exp, from_matrix, log, to_matrix
     from robots.limbs import limb_surfaces
 
     model, scenario, state = standing
@@ -266,33 +267,68 @@ def test_damping_acts_along_a_contact_surfaces_own_axes(standing):
     feet = ("left_foot", "right_foot")
     left = names.index("left_foot")
     surfaces = limb_surfaces(model.robot, scenario.scene.friction)
-    turn = Rotation.from_euler("x", 90, degrees=True).as_matrix()  # normal: the sole's -y
-    origin = np.array([0.02, -0.03, 0.01])
+    turn = Rotation.from_rotvec([0.3, -0.5, 0.8]).as_matrix()
+    origin = np.array([0.02, -0.03, 0.05])
     own = replace(surfaces["left_foot"], rotation_in_frame=turn, origin_in_frame=origin)
     stabilizer, plan = _stabilizer_and_plan(standing, feet)
-    plan = replace(plan, contact_surfaces=(own, surfaces["right_foot"]))
+    orientations = plan.limb_target_orientation_world.copy()
+    frame = Rotation.from_rotvec([0.1, 0.2, -0.4]).as_matrix()
+    orientations[left] = from_matrix(frame)
+    plan = replace(
+        plan,
+        contact_surfaces=(own, surfaces["right_foot"]),
+        limb_target_orientation_world=orientations,
+    )
     desired = stabilizer.stabilize(0.0, plan, state).contact_wrench_desired_limb
-    frame = to_matrix(plan.limb_target_orientation_world[left])
     target = plan.limb_target_position_world[left]
 
     def step(force_surface, moment_surface):
         stabilizer.compliance_linear[:] = 0.0
         stabilizer.compliance_angular[:] = 0.0
         measured = desired.copy()
-        force = turn @ np.asarray(force_surface, dtype=float)  # in the sole frame
+        force = turn @ np.asarray(force_surface, dtype=float)  # in the limb's frame
         measured[left, :3] += force
         measured[left, 3:] += turn @ np.asarray(moment_surface, dtype=float) + np.cross(
             origin, force
         )
         out = stabilizer.stabilize(DT, plan, _with_wrenches(state, measured))
-        turned = log(frame.T @ to_matrix(out.limb_orientation_world[left]))  # sole frame
-        return out.limb_position_world[left] - target, turned
+        limb = to_matrix(out.limb_orientation_world[left])
+        return out.limb_position_world[left] - target, log(frame.T @ limb)  # limb frame
 
     moved, turned = step([0, 0, 0], [0, 0, 5.0])  # about the normal
     np.testing.assert_allclose(turned, 0.0, atol=1e-12)
     np.testing.assert_allclose(moved, 0.0, atol=1e-12)
-    moved, turned = step([0, 0, 0], [2.0, 0, 0])  # about a tangent
-    np.testing.assert_allclose(turned, turn @ [2.0 / 100 * DT, 0, 0], atol=1e-12)
+    moved, turned = step([0, 0, 0], [0, 2.0, 0])  # about the y tangent
+    np.testing.assert_allclose(turned, turn @ [0, 2.0 / 100 * DT, 0], atol=1e-12)
+    pivot = frame @ (np.eye(3) - exp(turned)) @ origin  # the surface turns about o
+    np.testing.assert_allclose(moved, pivot, atol=1e-12)
+    assert np.linalg.norm(pivot) > 1e-6
     moved, turned = step([0, 0, 100.0], [0, 0, 0])  # along the normal, through o
     np.testing.assert_allclose(moved, frame @ turn @ [0, 0, 100.0 / 1e4 * DT], atol=1e-12)
     np.testing.assert_allclose(turned, 0.0, atol=1e-12)
+
+
+def test_a_limbs_compliance_keeps_its_pose_when_its_damping_axes_change(standing):
+    """`_change_damping_axes`: a limb's compliance leaving a surface's own axes R_s (and
+    coming back) is re-expressed, R_s p, so that the compliant pose R exp(R_s p_s) and the
+    displacement R R_s p_s are the same in either axes."""
+    from scipy.spatial.transform import Rotation
+
+    from centroidal.rotations import exp
+
+    model, _, _ = standing
+    stabilizer, _ = _stabilizer_and_plan(standing, ("left_foot", "right_foot"))
+    k = model.robot.limb_names.index("left_hand")
+    axes = np.tile(np.eye(3), (len(model.robot.limbs), 1, 1))
+    axes[k] = Rotation.from_rotvec([0.3, -0.5, 0.8]).as_matrix()
+    stabilizer._change_damping_axes(axes)
+    linear, angular = np.array([0.01, -0.02, 0.03]), np.array([0.05, 0.02, -0.04])
+    stabilizer.compliance_linear[k], stabilizer.compliance_angular[k] = linear, angular
+    stabilizer._change_damping_axes(None)  # back to the contact frame's axes
+    np.testing.assert_allclose(stabilizer.compliance_linear[k], axes[k] @ linear, atol=1e-15)
+    np.testing.assert_allclose(
+        exp(stabilizer.compliance_angular[k]), axes[k] @ exp(angular) @ axes[k].T, atol=1e-14
+    )
+    stabilizer._change_damping_axes(axes)
+    np.testing.assert_allclose(stabilizer.compliance_linear[k], linear, atol=1e-15)
+    np.testing.assert_allclose(stabilizer.compliance_angular[k], angular, atol=1e-15)
