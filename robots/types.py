@@ -242,8 +242,8 @@ class CentroidalPlan:
     contact_surfaces: tuple | None = None
     """The `centroidal.contacts.ContactSurface` of each of `contact_limbs` (in its order) as the
     plan used it: the limb's, its grasp form, or a contact's own polygon (`robots.scene.
-    Contact.support_in_frame`); None: each limb's whole surface (a grasp's with
-    `grasp_limbs`)."""
+    Contact.support_in_frame`), in its own frame when it has one (`Contact.surface_pose_world`);
+    None: each limb's whole surface in its contact frame (a grasp's with `grasp_limbs`)."""
     contact_wrench_limb: np.ndarray | None = None
     """(n_limbs, 6) contact wrenches such a planner decided: force [N] and moment [N m] of the
     environment on each limb, in its contact frame about its origin (zero off contact)."""

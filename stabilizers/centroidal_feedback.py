@@ -9,7 +9,9 @@ Each control period:
    recommends) onto the cone of the contacts; w_i^d = G_i lambda_i;
 4. damping control of every limb end (eqs. 15-16, Table II): the compliance pose
    r^c = r^d + Delta r^c with K_d Delta r' + K_s Delta r = K_f (w^a - w^d), integrated as eq. 16
-   (compiled: `centroidal.kernels.damping_control`);
+   (compiled: `centroidal.kernels.damping_control`), per axis of each limb's contact frame, or
+   of its contact surface's own frame where it has one (`ContactSurface.rotation_in_frame`: a
+   hand resting on a rail; the surface then turns about its own origin);
    contact-phase parameters for limbs in contact, non-contact ones otherwise; with a single limb
    in contact its linear components use the non-contact values (Table II's note).
 The whole-body layer gets the desired CoM and base orientation (r^d), the compliance poses,
