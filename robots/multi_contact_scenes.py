@@ -69,12 +69,15 @@ HANDRAIL_Y = 0.38
 """(B): rail centre lines 0.38 m either side of the stairs' centre line, 0.03 m outside the
 stairs' edges, 0.17 m beyond the shoulders (0.45 m, the first choice, left a palm 0.50 m from
 its shoulder on the rail beside the robot: beyond the arm's 0.48 m)."""
-HANDRAIL_HEIGHT = 0.95
-"""(B): the rail's centre line 0.95 m above the stairs' pitch line (the line through the
-steps' nosings): 1.025 m above a foot on a tread's centre, 0.235 m below the shoulders (which
-the constant CoM height keeps 1.26 m above the feet), so a palm 0.25 m ahead of or behind the
-shoulder reaches it with the elbow bent (0.80 m, the first choice, a 0.9 m human handrail
-scaled, put it 0.39 m below the shoulders: 0.58 m away for such a palm, out of reach)."""
+HANDRAIL_HEIGHT = 0.85
+"""(B): the rail's centre line 0.85 m above the stairs' pitch line (the line through the
+steps' nosings): 0.925 m above a foot on a tread's centre, 0.26 m below the shoulders (which
+(B)'s CoM height, `bench.motions.STAIRS_COM_HEIGHT`, keeps 1.18 m above the feet), so a palm
+0.25 m ahead of or behind the shoulder reaches it with the elbow bent. From the kinematic check
+(`centrobench check --scenario handrail_stairs`): 0.95 m, chosen when the CoM stayed at the
+standing height, put the wrists at their pitch limits with the CoM 0.076 m lower (the CoM up to
+77 mm from its reference in the double supports after a step up), 0.90 / 0.875 m up to 18 / 12
+mm, 0.85 m 10 mm (0.83 m 11 mm); 0.80 m, a 0.9 m human handrail scaled, was out of reach."""
 HANDRAIL_HALF_SECTION = 0.02
 """(B): the rails are 0.04 m x 0.04 m bars (boxes: the scene has no cylinders)."""
 HANDRAIL_RUNOUT = 0.40

@@ -54,6 +54,26 @@ def test_the_ladder_touches_a_rung_with_the_stepping_leg(model):
     assert set(links) <= {"right_thigh", "right_shank"}
 
 
+def test_the_stairs_keep_the_knees_bent_and_the_com_on_its_reference(model):
+    """Fig. 4 (B) with its CoM 0.75 m above the feet and the rails 0.85 m above the pitch
+    line (`STAIRS_COM_HEIGHT`, `HANDRAIL_HEIGHT`): no link touches, no knee reaches its limit
+    (at the standing height the trailing leg straightened in the double support after each
+    step up, the CoM 91 mm from its reference there), and once both hands hold their rails
+    the IK alone keeps the CoM within 15 mm of its reference in every phase."""
+    scenario = make_scenario("handrail_stairs", model)
+    check = check_scenario(model, scenario)
+    assert check.feasible
+    both_grasped = min(
+        phase.start
+        for phase in scenario.phases
+        if {"left_hand", "right_hand"} <= {c.limb for c in phase.contacts}
+    )
+    for phase in check.phases:
+        assert not [j for j in phase.at_limit if j.endswith("knee")], phase
+        if phase.start >= both_grasped:
+            assert phase.com_error_max_m < 0.015, phase
+
+
 def test_check_command_prints_json(capsys):
     assert main(["check", "--scenario", "stand", "--json"]) == 0
     report = json.loads(capsys.readouterr().out)

@@ -392,12 +392,36 @@ def test_handrail_stairs_climbs_without_a_fall(stairs_episode):
 
 
 @pytest.mark.slow
+def test_handrail_stairs_climbs_upright_on_its_plan(stairs_episode):
+    """(B) with the CoM 0.74 m above the feet and the rails lowered with it (2026-11-27;
+    before, at the standing height, the base tilted up to 12.6 / 16.4 deg and the CoM strayed
+    up to 0.33 / 0.35 m from its reference): the base stays within 6 deg of upright, the
+    controller's CoM (its estimate, what it feeds back) within 35 mm RMS of its plan over the
+    whole climb, and both feet stand on the landing at the end."""
+    _, result = stairs_episode
+    trace = result.trace
+    x, y = (trace[f"base_quat_{a}"].to_numpy() for a in "xy")
+    tilt = np.degrees(np.arccos(np.clip(1.0 - 2.0 * (x**2 + y**2), -1.0, 1.0)))
+    assert tilt.max() < 6.0
+    error = np.linalg.norm(
+        trace[["com_actual_x", "com_actual_y", "com_actual_z"]].to_numpy()
+        - trace[["com_planned_x", "com_planned_y", "com_planned_z"]].to_numpy(),
+        axis=1,
+    )
+    assert np.sqrt(np.mean(error**2)) < 0.035
+    last = trace[trace["time"] > trace["time"].max() - 1.0]
+    assert last["contact_left_foot"].all()
+    assert last["contact_right_foot"].all()
+
+
+@pytest.mark.slow
 @pytest.mark.xfail(
     strict=True,
-    reason="(B) climbs without a fall but does not track its plan (2026-11-24): CoM up to "
-    "0.33 / 0.35 m off its reference and 0.14 / 0.26 m at the end, base tilt up to 12.6 / "
-    "16.4 deg, feet in contact 89-93 % of their planned time (MuJoCo / PyBullet); at tread 1 "
-    "(16 s) both feet leave the treads and the robot hangs on the grasps",
+    reason="(B) does not track its plan at the steps up (2026-11-27, CoM 0.74 m above the "
+    "feet): in the double support after each step up the feet leave the treads while the "
+    "robot hangs on its grasps (no foot in contact for 1.3 s in all, MuJoCo and PyBullet), "
+    "and the CoM is then up to 0.16 / 0.17 m from its reference (0.33 / 0.35 m at the "
+    "standing height, 2026-11-24)",
 )
 def test_handrail_stairs_tracks_its_plan(stairs_episode):
     _, result = stairs_episode
@@ -431,7 +455,9 @@ def test_the_mpc_plans_no_wrench_to_project_on_the_resting_stairs(resting_stairs
     feedback then leaves a desired wrench to project (not zero). Whether it climbs to the end
     is decided by round-off in MuJoCo (2026-11-27: a fall at 28.9 s, none in a version that
     differed from it by round-off; README), so the errors are judged over what it climbed:
-    more than half the motion."""
+    more than half the motion. "Not zero" is 1e-2 N, four orders of magnitude above the
+    planned error (the desired one was 1.3-7.1 N at the standing CoM height, 0.07-0.19 N since
+    the climb tracks its plan better, 2026-11-27: less feedback to project)."""
     _, episodes = resting_stairs
     summary = episodes["linear_mpc"].summary
     assert summary["status"] in ("ok", "fell"), summary["error"]
@@ -439,7 +465,7 @@ def test_the_mpc_plans_no_wrench_to_project_on_the_resting_stairs(resting_stairs
     errors = summary["projection_error"]
     assert errors["planned_force_N"] < 1e-5
     assert errors["planned_moment_Nm"] < 1e-5
-    assert errors["desired_force_N"] > 0.1
+    assert errors["desired_force_N"] > 1e-2
 
 
 @pytest.mark.slow
