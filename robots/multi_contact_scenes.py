@@ -77,7 +77,8 @@ steps' nosings): 0.925 m above a foot on a tread's centre, 0.26 m below the shou
 (`centrobench check --scenario handrail_stairs`): 0.95 m, chosen when the CoM stayed at the
 standing height, put the wrists at their pitch limits with the CoM 0.076 m lower (the CoM up to
 77 mm from its reference in the double supports after a step up), 0.90 / 0.875 m up to 18 / 12
-mm, 0.85 m 10 mm (0.83 m 11 mm); 0.80 m, a 0.9 m human handrail scaled, was out of reach."""
+mm, 0.85 m 10 mm (0.83 m 11 mm), all at a CoM height of 0.75 m (13 mm at 0.74 m, the one kept);
+0.80 m, a 0.9 m human handrail scaled, was out of reach at the standing height."""
 HANDRAIL_HALF_SECTION = 0.02
 """(B): the rails are 0.04 m x 0.04 m bars (boxes: the scene has no cylinders)."""
 HANDRAIL_RUNOUT = 0.40

@@ -55,7 +55,7 @@ def test_the_ladder_touches_a_rung_with_the_stepping_leg(model):
 
 
 def test_the_stairs_keep_the_knees_bent_and_the_com_on_its_reference(model):
-    """Fig. 4 (B) with its CoM 0.75 m above the feet and the rails 0.85 m above the pitch
+    """Fig. 4 (B) with its CoM 0.74 m above the feet and the rails 0.85 m above the pitch
     line (`STAIRS_COM_HEIGHT`, `HANDRAIL_HEIGHT`): no link touches, no knee reaches its limit
     (at the standing height the trailing leg straightened in the double support after each
     step up, the CoM 91 mm from its reference there), and once both hands hold their rails
