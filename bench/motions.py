@@ -108,6 +108,16 @@ STAIRS_LIFT = 0.05
 STAIRS_APPROACH_X = 0.15
 """[m] at scale 1: the feet first step to 0.15 m ahead (toes 0.04 m short of the first
 riser), so that every step up is one tread (0.30 m) long."""
+STAIRS_COM_HEIGHT = 0.74
+"""[m] at scale 1: (B)'s CoM reference above the feet's mean height (Sec. V-C's constant
+offset; 0.826 m, the standing height, is the default). From the kinematic check (`centrobench
+check --scenario handrail_stairs`): at the standing height the trailing leg's knee reaches its
+limit (straight) in the double support after each step up, a stride of 0.30 m run and 0.15 m
+rise, and the IK misses the CoM reference by up to 91 mm there and the swing foot its tread by
+70 mm; 0.78 m still straightens it in some phases, 0.75 m on the last step; at 0.74 m no knee
+reaches its limit (with the rails lowered with it, `HANDRAIL_HEIGHT`: the CoM within 13 mm of
+its reference once both hands hold, the swing foot within 47 mm, the trailing ankle's pitch at
+its limit while it swings; 0.72-0.73 m: 14-17 mm)."""
 STAIRS_HAND_START = 0.20
 """[m] at scale 1: the hands' first grasps, 0.20 m ahead of the feet."""
 STAIRS_HAND_AHEAD = 0.35
@@ -536,18 +546,6 @@ def handrail_stairs_motion(
         swing_height=0.0,
         com_height_offset=STAIRS_COM_HEIGHT * s,
     )
-
-
-STAIRS_COM_HEIGHT = 0.74
-"""[m] at scale 1: (B)'s CoM reference above the feet's mean height (Sec. V-C's constant
-offset; 0.826 m, the standing height, is the default). From the kinematic check (`centrobench
-check --scenario handrail_stairs`): at the standing height the trailing leg's knee reaches its
-limit (straight) in the double support after each step up, a stride of 0.30 m run and 0.15 m
-rise, and the IK misses the CoM reference by up to 91 mm there and the swing foot its tread by
-70 mm; 0.78 m still straightens it in some phases, 0.75 m on the last step; at 0.74 m no knee
-reaches its limit (with the rails lowered with it, `HANDRAIL_HEIGHT`: the CoM within 13 mm of
-its reference once both hands hold, the swing foot within 47 mm, the trailing ankle's pitch at
-its limit while it swings; 0.72-0.73 m: 14-17 mm)."""
 
 
 WALL_WALK_FOOTHOLDS = (0.18, 0.42, 0.56, 0.70, 0.80, 1.05, 1.15, 1.42, 1.56, 1.70, 2.05)
