@@ -74,6 +74,11 @@ def _import_pybullet():
 
 pb = _import_pybullet()
 
+CONE_FRICTION = 1
+"""Bullet's friction law: Coulomb's cone |f_t| <= mu f_n (its default, set explicitly; 0 clamps
+each of two friction directions separately, a square that allows 1.41 mu along a diagonal).
+Measured (a box on a 25 deg incline, `tests/sims/test_agreement.py`): it slips sideways at the
+circle's load, as MuJoCo with its elliptic cone (`sims.mujoco_sim.FRICTION_CONE`)."""
 CONTACT_ERP = 0.2
 """PyBullet's penetration-recovery gain for contacts and friction (Bullet's default, set
 explicitly). Measured trade-off: with 0 the robot standing 10 s sinks 0.34 mm and its weight
@@ -162,6 +167,7 @@ class PybulletSimulator(SimulatorBase):
             deterministicOverlappingPairs=1,
             contactERP=CONTACT_ERP,
             frictionERP=CONTACT_ERP,
+            enableConeFriction=CONE_FRICTION,
             physicsClientId=c,
         )
         pb.setGravity(0.0, 0.0, -scene.gravity, physicsClientId=c)

@@ -333,3 +333,110 @@ def test_upright_robot_in_the_air_has_not_fallen(robot, model, sim_name):
         assert sim.fall_reason() is None
     finally:
         sim.close()
+
+
+# --- the friction law: Coulomb's circle in both simulators ----------------------------------
+
+INCLINE_RAD = np.radians(25.0)  # Murooka Fig. 4 (A)'s scaffold board
+MU = 0.6  # the paper's friction
+BOX_MASS, BOX_HALF = 30.0, (0.11, 0.06, 0.05)  # a sole-sized box [kg], [m]
+
+
+def _box_on_incline_slides(sim_name: str, ratio: float, seconds: float = 1.0) -> float:
+    """How far [m] a box resting on a 25 deg incline (friction MU) moves in `seconds` under a
+    horizontal force across the slope of `ratio` times its normal load, with the contact
+    settings each simulator module uses for the robot."""
+    normal = BOX_MASS * G * np.cos(INCLINE_RAD)
+    force = [0.0, ratio * normal, 0.0]
+    c, s = np.cos(INCLINE_RAD), np.sin(INCLINE_RAD)
+    rotation = np.array([[c, 0.0, -s], [0.0, 1.0, 0.0], [s, 0.0, c]])  # -25 deg about y
+    centre = rotation @ np.array([0.0, 0.0, BOX_HALF[2] + 1e-4])  # on the slope's top face
+    if sim_name == "mujoco":
+        import mujoco
+
+        from sims.mujoco_sim import CONTACT_SOLREF, FRICTION_CONE, FRICTION_IMPRATIO
+
+        spec = mujoco.MjSpec()
+        spec.option.timestep, spec.option.integrator = 1e-3, mujoco.mjtIntegrator.mjINT_EULER
+        spec.option.cone, spec.option.impratio = FRICTION_CONE, FRICTION_IMPRATIO
+        quaternion = [np.cos(-INCLINE_RAD / 2), 0.0, np.sin(-INCLINE_RAD / 2), 0.0]
+        slope = spec.worldbody.add_geom(type=mujoco.mjtGeom.mjGEOM_BOX, size=[2.0, 2.0, 0.1])
+        slope.quat, slope.pos = quaternion, list(-rotation @ np.array([0.0, 0.0, 0.1]))
+        body = spec.worldbody.add_body(name="box", pos=list(centre), quat=quaternion)
+        body.add_freejoint()
+        geom = body.add_geom(type=mujoco.mjtGeom.mjGEOM_BOX, size=list(BOX_HALF), mass=BOX_MASS)
+        for g in (slope, geom):
+            g.friction, g.condim, g.solref = [MU, 0.0, 0.0], 3, list(CONTACT_SOLREF)
+        model = spec.compile()
+        data = mujoco.MjData(model)
+        for _ in range(500):
+            mujoco.mj_step(model, data)
+        start = data.qpos[:3].copy()
+        for _ in range(round(seconds / 1e-3)):
+            data.xfrc_applied[model.body("box").id, :3] = force
+            mujoco.mj_step(model, data)
+        return float(np.linalg.norm(data.qpos[:3] - start))
+    import pybullet as pb
+
+    from sims.pybullet_sim import CONE_FRICTION, CONTACT_ERP
+
+    client = pb.connect(pb.DIRECT)
+    try:
+        pb.setGravity(0.0, 0.0, -G, physicsClientId=client)
+        pb.setPhysicsEngineParameter(
+            fixedTimeStep=1e-3,
+            numSubSteps=0,
+            contactERP=CONTACT_ERP,
+            frictionERP=CONTACT_ERP,
+            enableConeFriction=CONE_FRICTION,
+            physicsClientId=client,
+        )
+        quaternion = pb.getQuaternionFromEuler([0.0, -INCLINE_RAD, 0.0])
+        slope_shape = pb.createCollisionShape(
+            pb.GEOM_BOX, halfExtents=[2.0, 2.0, 0.1], physicsClientId=client
+        )
+        slope = pb.createMultiBody(
+            0.0,
+            slope_shape,
+            basePosition=list(-rotation @ np.array([0.0, 0.0, 0.1])),
+            baseOrientation=quaternion,
+            physicsClientId=client,
+        )
+        box_shape = pb.createCollisionShape(
+            pb.GEOM_BOX, halfExtents=list(BOX_HALF), physicsClientId=client
+        )
+        box = pb.createMultiBody(
+            BOX_MASS,
+            box_shape,
+            basePosition=list(centre),
+            baseOrientation=quaternion,
+            physicsClientId=client,
+        )
+        # the robot's links have friction 1, the scene's MU: Bullet multiplies them
+        pb.changeDynamics(slope, -1, lateralFriction=MU, physicsClientId=client)
+        pb.changeDynamics(box, -1, lateralFriction=1.0, physicsClientId=client)
+        for _ in range(500):
+            pb.stepSimulation(physicsClientId=client)
+        start = np.array(pb.getBasePositionAndOrientation(box, physicsClientId=client)[0])
+        for _ in range(round(seconds / 1e-3)):
+            position = pb.getBasePositionAndOrientation(box, physicsClientId=client)[0]
+            pb.applyExternalForce(box, -1, force, position, pb.WORLD_FRAME, physicsClientId=client)
+            pb.stepSimulation(physicsClientId=client)
+        end = np.array(pb.getBasePositionAndOrientation(box, physicsClientId=client)[0])
+        return float(np.linalg.norm(end - start))
+    finally:
+        pb.disconnect(client)
+
+
+@pytest.mark.parametrize("sim_name", SIMS)
+def test_friction_is_coulombs_circle_on_an_incline(sim_name):
+    """Coulomb's law on Fig. 4 (A)'s 25 deg board: the slope takes tan 25 deg = 0.47 of mu =
+    0.6, so the box holds a sideways load of up to sqrt(0.6^2 - 0.47^2) = 0.378 of its normal
+    load and slips beyond, in both simulators. A pyramid with edges along the box's axes (MuJoCo's
+    pyramidal cone, used before) held only 0.6 - 0.47 = 0.134, a square (Bullet without cone
+    friction) 0.6; and below the limit the box does not creep (MuJoCo's soft friction at
+    impratio 1: 0.27 mm/s)."""
+    circle = np.sqrt(MU**2 - np.tan(INCLINE_RAD) ** 2)
+    assert _box_on_incline_slides(sim_name, 0.0) < 1e-4
+    assert _box_on_incline_slides(sim_name, 0.9 * circle) < 1e-4
+    assert _box_on_incline_slides(sim_name, 1.1 * circle) > 0.05
