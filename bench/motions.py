@@ -54,6 +54,7 @@ from robots.multi_contact_scenes import (
     SUPPORT_Y,
     WALKWAY_START_X,
     WALL_INNER_FACE_Y,
+    WALL_WALK_FACE_Y,
     hand_supports,
     hand_wall,
     handrail_stairs,
@@ -325,9 +326,11 @@ def _standing_feet(poses: dict[str, tuple[np.ndarray, np.ndarray]]) -> tuple[Con
     )
 
 
-def _wall_palms(scale: float, offset_y: float = 0.0) -> tuple[Contact, Contact]:
-    """The left and right palms on side walls whose faces are at y = +-WALL_INNER_FACE_Y."""
-    y = WALL_INNER_FACE_Y * scale + offset_y
+def _wall_palms(
+    scale: float, offset_y: float = 0.0, face_y: float = WALL_INNER_FACE_Y
+) -> tuple[Contact, Contact]:
+    """The left and right palms on side walls whose faces are at y = +-face_y [m at scale 1]."""
+    y = face_y * scale + offset_y
     x, z = WALL_PALM_X * scale, WALL_PALM_HEIGHT * scale
     return (
         Contact("left_hand", (x, y, z), LEFT_WALL_PALM),
@@ -548,7 +551,7 @@ def handrail_stairs_motion(
     )
 
 
-WALL_WALK_FOOTHOLDS = (0.18, 0.42, 0.56, 0.70, 0.80, 1.05, 1.15, 1.42, 1.56, 1.70, 2.05)
+WALL_WALK_FOOTHOLDS = (0.18, 0.42, 0.56, 0.70, 0.80, 1.05, 1.15, 1.42, 1.56, 1.70, 1.79, 2.05)
 """[m] at scale 1: the x of the soles' centres at each foothold of `hand_wall`, both feet
 side by side (each foot steps there in turn, right first): on the ground before the boards,
 four times up the ascending board, twice on the flat top board, three times down the
@@ -563,20 +566,18 @@ WALL_WALK_SWING_S = 1.0
 WALL_WALK_DOUBLE_S = 0.6
 WALL_WALK_HAND_S = 1.5
 """[s] at scale 1 of `hand_wall`: each foot's swing, each double support, each hand's move."""
-WALL_WALK_HAND_AHEAD = 0.10
-"""[m] at scale 1: a palm is placed on the wall 0.10 m ahead of the feet's foothold, at
-`WALL_PALM_HEIGHT` above it."""
 WALL_WALK_SWITCH = 5
 """The foothold (from 0) at which the right hand takes the right wall and the left lets go
 (Fig. 5: "contact forces of the left hand (1-6 s) and right hand (6-10 s)")."""
 WALL_WALK_PALM_HEIGHT = 0.90
-"""[m] at scale 1: (A)'s palm on the wall is this far above the feet's foothold. Ours, from the
-kinematic check (`bench.kinematic_check`, the IK alone on the motion): at `WALL_PALM_HEIGHT`
-(1.00 m, (E)'s) the left wrist pitch sits at its limit and the CoM is up to 94 mm (28 mm on
-average over the phases) from its reference; at 0.90 m up to 61 mm (13 mm); 0.75, 0.85 and
-1.10 m were worse, and so was placing the palm 0.0 or 0.2 m ahead of the feet instead of
-`WALL_WALK_HAND_AHEAD` (each with the right hand held at its start pose, before
-`ContactSequence.carry`)."""
+"""[m] at scale 1: (A)'s palm on the wall is this far above the feet's footholds (the mean
+height of the two it lies between, `hand_wall_palm_place`). Ours, from the kinematic check
+(`bench.kinematic_check`, the IK alone on the motion): at `WALL_PALM_HEIGHT` (1.00 m, (E)'s)
+the left wrist pitch sat at its limit and the CoM was up to 94 mm (28 mm on average over the
+phases) from its reference; at 0.90 m up to 61 mm (13 mm); 0.75, 0.85 and 1.10 m were worse.
+With the palm moved at every foothold (since 2026-11-27) 0.85 m straightens the elbow in 26
+of 70 phases, 0.95 / 1.00 m put the CoM up to 56 / 66 mm off (0.90 m: 36 mm, in the first
+phase only, the reference's start)."""
 PAPER_WALL_HAND_KD = 1000.0
 """Table II's note: the hands' linear K_d in contact "1000 for walking with hands on the wall"."""
 WALL_WALK_LIFT = 0.05
@@ -602,30 +603,43 @@ def _walkway(scale: float, x: float) -> tuple[float, Quaternion]:
     return rise - (x - x0 - run - top) * slope, down
 
 
+def hand_wall_palm_place(scale: float, k: int) -> tuple[float, float]:
+    """Where (A)'s palm goes on the wall while the feet stand on foothold k (-1: where they
+    start) and step to foothold k + 1: x [m] midway between the two footholds, z [m]
+    `WALL_WALK_PALM_HEIGHT` above their mean height. Ours: the body passes the palm halfway
+    through the two strides, so the arm is stretched least at either end (the kinematic check:
+    a palm placed 0.10 m ahead of the foothold the feet stand on, moved every other foothold,
+    straightened the elbow or put the wrist at its limit in 36 of 62 phases, the CoM up to 72
+    mm from its reference; moved every foothold, midway, 2 of 70, 36 mm, in the first phase
+    only)."""
+    footholds = (0.0, *(x * scale for x in WALL_WALK_FOOTHOLDS))
+    x_here, x_next = footholds[k + 1], footholds[min(k + 2, len(footholds) - 1)]
+    z_here, z_next = _walkway(scale, x_here)[0], _walkway(scale, x_next)[0]
+    return 0.5 * (x_here + x_next), 0.5 * (z_here + z_next) + WALL_WALK_PALM_HEIGHT * scale
+
+
 def hand_wall_motion(model: RobotModel, duration: float | None = None) -> Scenario:
     """Fig. 4 (A): "stepping on scaffold boards with 25 degree incline while keeping the hand
     on a vertical wall" (`robots.multi_contact_scenes.hand_wall`). The left palm reaches the
     left wall, then the feet step foothold by foothold (`WALL_WALK_FOOTHOLDS`, both feet on
     each in turn, right first, soles pitched with the boards, every swing lifted over the
-    higher foothold) and after every other foothold the palm on the wall moves along it; at
-    `WALL_WALK_SWITCH` the right palm takes the right wall and the left hand lets go (Fig. 5's
-    switch of hands), the right palm moving along from then on. CoM reference by Sec. V-C's
-    walking rule (the supporting feet's centre, constant height above their mean); the
-    hands' damping K_d of Table II's note for this motion (`PAPER_WALL_HAND_KD`)."""
+    higher foothold) and after every foothold the palm on the wall moves along it
+    (`hand_wall_palm_place`); at `WALL_WALK_SWITCH` the right palm takes the right wall and
+    the left hand lets go (Fig. 5's switch of hands), the right palm moving along from then
+    on. CoM reference by Sec. V-C's walking rule (the supporting feet's centre, constant
+    height above their mean); the hands' damping K_d of Table II's note for this motion
+    (`PAPER_WALL_HAND_KD`)."""
     robot = model.robot
     s, time_scale, poses, feet, sequence = _begin(model)
     sequence.carry("right_hand", poses["right_hand"])
     sequence.hold(WALL_WALK_DOUBLE_S * time_scale)
-    left, right = _wall_palms(s)
+    left, right = _wall_palms(s, face_y=WALL_WALK_FACE_Y)
 
-    def palm(contact: Contact, x: float, z: float) -> Contact:
-        _, y, _ = contact.position_world
-        ahead = x + WALL_WALK_HAND_AHEAD * s
-        return Contact(
-            contact.limb, (ahead, y, z + WALL_WALK_PALM_HEIGHT * s), contact.orientation_world
-        )
+    def palm(contact: Contact, k: int) -> Contact:
+        x, z = hand_wall_palm_place(s, k)
+        return Contact(contact.limb, (x, contact.position_world[1], z), contact.orientation_world)
 
-    sequence.move((palm(left, 0.0, 0.0),), WALL_WALK_HAND_S * time_scale, poses)
+    sequence.move((palm(left, -1),), WALL_WALK_HAND_S * time_scale, poses)
     sequence.hold(WALL_WALK_DOUBLE_S * time_scale)
     hand = left
     for k, x_scaled in enumerate(WALL_WALK_FOOTHOLDS):
@@ -642,17 +656,15 @@ def hand_wall_motion(model: RobotModel, duration: float | None = None) -> Scenar
         if k < WALL_WALK_SWITCH:
             sequence.carry("right_hand", hanging)
         if k == WALL_WALK_SWITCH:
-            sequence.move(
-                (palm(right, x, z),), WALL_WALK_HAND_S * time_scale, {"right_hand": hanging}
-            )
+            sequence.move((palm(right, k),), WALL_WALK_HAND_S * time_scale, {"right_hand": hanging})
             sequence.hold(WALL_WALK_DOUBLE_S * time_scale)
             hanging, orientation_hanging = poses["left_hand"]
             let_go = (hanging + np.array([x, 0.0, z]), orientation_hanging)
             sequence.free("left_hand", let_go, WALL_WALK_HAND_S * time_scale)
             sequence.hold(WALL_WALK_DOUBLE_S * time_scale)
             hand = right
-        elif k % 2 == 0 and k < len(WALL_WALK_FOOTHOLDS) - 1:  # every other foothold
-            sequence.move((palm(hand, x, z),), WALL_WALK_HAND_S * time_scale)
+        else:
+            sequence.move((palm(hand, k),), WALL_WALK_HAND_S * time_scale)
             sequence.hold(WALL_WALK_DOUBLE_S * time_scale)
     sequence.hold(WALL_WALK_DOUBLE_S * time_scale)
     return _scenario(

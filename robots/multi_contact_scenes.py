@@ -49,6 +49,12 @@ amplitude of 20 mm and 2 degrees"."""
 WALL_INNER_FACE_Y = 0.45
 """(A), (E): the walls' faces 0.45 m either side of the walkway's centre line: 0.24 m beyond
 the shoulders, within the arm's 0.48 m reach with the elbow bent."""
+WALL_WALK_FACE_Y = 0.41
+"""(A): the walls' faces 0.41 m either side of the walkway's centre line (0.20 m beyond the
+shoulders). From the kinematic check (`centrobench check --scenario hand_wall`): at (E)'s 0.45
+m the arm of the palm on the wall straightened (the elbow at its limit) in the single
+supports on the far foot, the body swaying 0.09 m away from the wall, in 7-10 of the
+motion's 70 phases; at 0.41 m in 2 (0.40 m: 3; 0.38 m put the wrists at their limits)."""
 WALL_THICKNESS = 0.10
 WALL_HEIGHT = 2.0
 BOARD_RUN = 0.60
@@ -176,9 +182,12 @@ def _block(name: str, x_range, y_range, z_range) -> Box:
     )
 
 
-def _side_walls(s: float, x_range: tuple[float, float], height: float) -> tuple[Box, Box]:
-    """Walls `wall_left` (+y) and `wall_right` (-y) with their faces at +-WALL_INNER_FACE_Y."""
-    face, thickness = WALL_INNER_FACE_Y * s, WALL_THICKNESS * s
+def _side_walls(
+    s: float, x_range: tuple[float, float], height: float, face_y: float = WALL_INNER_FACE_Y
+) -> tuple[Box, Box]:
+    """Walls `wall_left` (+y) and `wall_right` (-y) with their faces at +-face_y [m at scale
+    1]."""
+    face, thickness = face_y * s, WALL_THICKNESS * s
     return (
         _block("wall_left", x_range, (face, face + thickness), (0.0, height)),
         _block("wall_right", x_range, (-face - thickness, -face), (0.0, height)),
@@ -197,8 +206,9 @@ def hand_wall(robot: RobotDescription) -> Scene:
 
     The paper's Fig. 5 has the left hand on the wall for 1-6 s and the right hand for 6-10 s
     (the motion switches hands), so there is a wall on each side (ours): `wall_left` and
-    `wall_right`, faces at y = +-0.45 m, 0.10 m thick, 2.0 m high, from 0.5 m behind the start
-    to 0.5 m beyond the last board. Every length x robot.scale; the angle is not scaled."""
+    `wall_right`, faces at y = +-0.41 m (`WALL_WALK_FACE_Y`), 0.10 m thick, 2.0 m high, from
+    0.5 m behind the start to 0.5 m beyond the last board. Every length x robot.scale; the
+    angle is not scaled."""
     s = robot.scale
     x0, run, top = WALKWAY_START_X * s, BOARD_RUN * s, BOARD_TOP_LENGTH * s
     rise = run * math.tan(PAPER_BOARD_INCLINE_RAD)
@@ -209,7 +219,7 @@ def hand_wall(robot: RobotDescription) -> Scene:
         _board("board_top", (x1, rise), (x2, rise), half_width, thickness),
         _board("board_down", (x2, rise), (x3, 0.0), half_width, thickness),
     )
-    walls = _side_walls(s, (-0.5 * s, x3 + 0.5 * s), WALL_HEIGHT * s)
+    walls = _side_walls(s, (-0.5 * s, x3 + 0.5 * s), WALL_HEIGHT * s, WALL_WALK_FACE_Y)
     return Scene(boxes=boards + walls, friction=PAPER_FRICTION)
 
 
@@ -219,8 +229,9 @@ def handrail_stairs(robot: RobotDescription) -> Scene:
     Steps (ours but the rise): solid blocks `step_1` ... `step_4` from the ground, step k's
     tread at k x 0.150 m, treads 0.30 m deep starting at x = 0.30 m, the fourth a 0.60 m
     landing, 0.70 m wide. Handrails (ours): 0.04 m square bars with centre lines at y = +-0.38 m
-    and 0.95 m above the pitch line (the line through the nosings, slope 0.150 / 0.30, 26.6
-    deg, which meets the ground at the robot's start, x = 0), each rail in three pieces:
+    and 0.85 m above the pitch line (`HANDRAIL_HEIGHT`; the pitch line runs through the
+    nosings, slope 0.150 / 0.30, 26.6 deg, and meets the ground at the robot's start, x = 0),
+    each rail in three pieces:
     `rail_<side>_bottom` horizontal over the 0.40 m before the slope, `rail_<side>_slope`
     along the stairs up to the last nosing, `rail_<side>_top` horizontal for 0.40 m beyond it.
     The rails float (a static box needs no post). Every length x robot.scale."""
