@@ -554,10 +554,12 @@ def handrail_stairs_motion(
 WALL_WALK_FOOTHOLDS = (0.18, 0.42, 0.56, 0.70, 0.80, 1.05, 1.15, 1.42, 1.56, 1.70, 1.79, 2.05)
 """[m] at scale 1: the x of the soles' centres at each foothold of `hand_wall`, both feet
 side by side (each foot steps there in turn, right first): on the ground before the boards,
-four times up the ascending board, twice on the flat top board, three times down the
-descending one, and on the ground after, every sole at least 0.10 m (along the board) from a
-board's end so that it lies on one plane; 0.10-0.14 m apart on a board (with 0.30 m the
-trailing leg straightened and its foot left the ground). Ours; the paper gives no footholds."""
+four times up the ascending board, twice on the flat top board, four times down the
+descending one, and on the ground after, every sole on one plane (its centre at least 0.11 m
+along the board from a board's end); 0.09-0.14 m apart on a board (with 0.30 m the trailing
+leg straightened and its foot left the ground). The fourth foothold down (1.79 m, since
+2026-11-27): from 1.70 m the last stride, 0.35 m and down, straightened the swing knee (the
+kinematic check). Ours; the paper gives no footholds."""
 WALL_WALK_COM_HEIGHT = 0.78
 """[m] at scale 1: the CoM reference's constant offset above the feet (Sec. V-C; 0.826 m, the
 standing height, is the default): 5 cm lower, so that the legs keep some bend with one foot
@@ -572,12 +574,14 @@ WALL_WALK_SWITCH = 5
 WALL_WALK_PALM_HEIGHT = 0.90
 """[m] at scale 1: (A)'s palm on the wall is this far above the feet's footholds (the mean
 height of the two it lies between, `hand_wall_palm_place`). Ours, from the kinematic check
-(`bench.kinematic_check`, the IK alone on the motion): at `WALL_PALM_HEIGHT` (1.00 m, (E)'s)
-the left wrist pitch sat at its limit and the CoM was up to 94 mm (28 mm on average over the
-phases) from its reference; at 0.90 m up to 61 mm (13 mm); 0.75, 0.85 and 1.10 m were worse.
-With the palm moved at every foothold (since 2026-11-27) 0.85 m straightens the elbow in 26
-of 70 phases, 0.95 / 1.00 m put the CoM up to 56 / 66 mm off (0.90 m: 36 mm, in the first
-phase only, the reference's start)."""
+(`bench.kinematic_check`, the IK alone on the motion). As first built (the palm 0.10 m ahead
+of the feet, moved every other foothold, the right hand held at its start pose): at
+`WALL_PALM_HEIGHT` (1.00 m, (E)'s) the left wrist pitch sat at its limit and the CoM was up to
+94 mm (28 mm on average over the phases) from its reference; at 0.90 m up to 61 mm (13 mm);
+0.75, 0.85 and 1.10 m were worse. With the palm moved at every foothold, midway (2026-11-27,
+before the fourth foothold down: 70 phases), 0.85 m straightened the elbow in 26 phases and
+0.95 / 1.00 m put the CoM up to 56 / 66 mm off, against 36 mm at 0.90 m, in the first phase
+only (the reference's start)."""
 PAPER_WALL_HAND_KD = 1000.0
 """Table II's note: the hands' linear K_d in contact "1000 for walking with hands on the wall"."""
 WALL_WALK_LIFT = 0.05
@@ -606,12 +610,15 @@ def _walkway(scale: float, x: float) -> tuple[float, Quaternion]:
 def hand_wall_palm_place(scale: float, k: int) -> tuple[float, float]:
     """Where (A)'s palm goes on the wall while the feet stand on foothold k (-1: where they
     start) and step to foothold k + 1: x [m] midway between the two footholds, z [m]
-    `WALL_WALK_PALM_HEIGHT` above their mean height. Ours: the body passes the palm halfway
-    through the two strides, so the arm is stretched least at either end (the kinematic check:
+    `WALL_WALK_PALM_HEIGHT` above their mean height; at the last foothold, above it. Ours: the
+    body passes the palm halfway through its stride, so the arm is stretched least at either
+    end (the kinematic check, with JVRC-1's ankle and wrist ranges and the ankle at -1.48 rad:
     a palm placed 0.10 m ahead of the foothold the feet stand on, moved every other foothold,
     straightened the elbow or put the wrist at its limit in 36 of 62 phases, the CoM up to 72
-    mm from its reference; moved every foothold, midway, 2 of 70, 36 mm, in the first phase
-    only)."""
+    mm from its reference; moved every foothold, midway, with the walls at 0.45 m, the elbow in
+    7 of 70, 36 mm in the first phase only)."""
+    if not -1 <= k < len(WALL_WALK_FOOTHOLDS):
+        raise ValueError(f"foothold {k} is not one of -1 .. {len(WALL_WALK_FOOTHOLDS) - 1}")
     footholds = (0.0, *(x * scale for x in WALL_WALK_FOOTHOLDS))
     x_here, x_next = footholds[k + 1], footholds[min(k + 2, len(footholds) - 1)]
     z_here, z_next = _walkway(scale, x_here)[0], _walkway(scale, x_next)[0]
@@ -624,11 +631,11 @@ def hand_wall_motion(model: RobotModel, duration: float | None = None) -> Scenar
     left wall, then the feet step foothold by foothold (`WALL_WALK_FOOTHOLDS`, both feet on
     each in turn, right first, soles pitched with the boards, every swing lifted over the
     higher foothold) and after every foothold the palm on the wall moves along it
-    (`hand_wall_palm_place`); at `WALL_WALK_SWITCH` the right palm takes the right wall and
-    the left hand lets go (Fig. 5's switch of hands), the right palm moving along from then
-    on. CoM reference by Sec. V-C's walking rule (the supporting feet's centre, constant
-    height above their mean); the hands' damping K_d of Table II's note for this motion
-    (`PAPER_WALL_HAND_KD`)."""
+    (`hand_wall_palm_place`: midway to the next foothold; after the last, above it); at
+    `WALL_WALK_SWITCH` the right palm takes the right wall and the left hand lets go (Fig. 5's
+    switch of hands), the right palm moving along from then on. CoM reference by Sec. V-C's
+    walking rule (the supporting feet's centre, constant height above their mean); the
+    hands' damping K_d of Table II's note for this motion (`PAPER_WALL_HAND_KD`)."""
     robot = model.robot
     s, time_scale, poses, feet, sequence = _begin(model)
     sequence.carry("right_hand", poses["right_hand"])

@@ -55,10 +55,11 @@ _LEG_JOINTS = {
     "hip_roll": ((-0.4, 0.8), 8.0, 200.0, 1500.0, 60.0),
     "hip_pitch": ((-2.0, 0.6), 8.0, 250.0, 1500.0, 60.0),
     "knee": ((0.0, 2.4), 10.0, 300.0, 1500.0, 40.0),
-    # ankle pitch down to -1.48 rad (JVRC-1's -85 deg, `jvrc_description`; was -1.0, ours):
-    # standing on Fig. 4 (A)'s 25 deg board takes -0.74 rad at the standing CoM height and
-    # -0.96 rad at (A)'s 0.78 m, and a step up the board tilts the shank further (the
-    # kinematic check of `hand_wall` found the ankle at -1.0 in 17 of its 62 phases)
+    # ankle pitch down to -1.48 rad (JVRC-1's lower limit, -85 deg, `jvrc_description`; was
+    # -1.0, ours; the upper stays ours, JVRC-1's is 0.96): standing on Fig. 4 (A)'s 25 deg
+    # board takes -0.74 rad at the standing CoM height and -0.96 rad at (A)'s 0.78 m, and a
+    # step up the board tilts the shank further (the kinematic check of `hand_wall` as it is
+    # now finds an ankle at -1.0 in 11 of its 78 phases, a sole up to 92 mm off its target)
     "ankle_pitch": ((-1.48, 0.8), 10.0, 200.0, 800.0, 5.0),
     "ankle_roll": ((-0.4, 0.4), 10.0, 120.0, 800.0, 3.5),
 }
@@ -76,9 +77,10 @@ _ARM_JOINTS = {
     # 2.6e-4 / 3.2e-4 kg m^2 (roll, pitch): kd dt / I_hand = 0.58 / 0.47 at the 1 ms physics
     # step, and the servo stays stable down to scale 0.6 (kd 0.25 did not there:
     # tests/robots/test_servo_stability.py; the explicit servo fails near 2, see the ankles)
-    # Range +-1.92 rad, JVRC-1's wrist roll (+-110 deg, `jvrc_description`; was +-1.2, ours):
-    # a palm flat on (A)'s wall with the body over the near foot bent a wrist to +-1.2 in 21
-    # of the motion's 70 phases (the kinematic check of `hand_wall`), none at +-1.92
+    # Range +-1.92 rad, JVRC-1's wrist roll (+-110 deg, `jvrc_description`; it has no wrist
+    # pitch, and ours takes the same range; was +-1.2, ours): a palm flat on (A)'s wall bent a
+    # wrist to +-1.2 in 36 of the motion's 78 phases (the kinematic check of `hand_wall` as it
+    # is now, the CoM then up to 43 mm off), none to +-1.92
     "wrist_pitch": ((-1.92, 1.92), 6.0, 20.0, 200.0, 0.15),
     "wrist_roll": ((-1.92, 1.92), 6.0, 20.0, 200.0, 0.15),
 }

@@ -47,14 +47,15 @@ amplitude of 20 mm and 2 degrees"."""
 
 # ------------------------------------------------------------------ ours (scale 1, [m], [s])
 WALL_INNER_FACE_Y = 0.45
-"""(A), (E): the walls' faces 0.45 m either side of the walkway's centre line: 0.24 m beyond
+"""(E): the walls' faces 0.45 m either side of the walkway's centre line: 0.24 m beyond
 the shoulders, within the arm's 0.48 m reach with the elbow bent."""
 WALL_WALK_FACE_Y = 0.41
 """(A): the walls' faces 0.41 m either side of the walkway's centre line (0.20 m beyond the
 shoulders). From the kinematic check (`centrobench check --scenario hand_wall`): at (E)'s 0.45
 m the arm of the palm on the wall straightened (the elbow at its limit) in the single
-supports on the far foot, the body swaying 0.09 m away from the wall, in 7-10 of the
-motion's 70 phases; at 0.41 m in 2 (0.40 m: 3; 0.38 m put the wrists at their limits)."""
+supports on the far foot, the body swaying 0.09 m away from the wall: in 7 of the motion's 78
+phases as it is now, none at 0.41 m (while (A) had three footholds down and 70 phases: 7 at
+0.45 m, 2 at 0.41 m and 3 at 0.40 m; 0.38 m put the wrists at their limits)."""
 WALL_THICKNESS = 0.10
 WALL_HEIGHT = 2.0
 BOARD_RUN = 0.60

@@ -64,18 +64,19 @@ from sims.sensor_buffer import SensorLayout
 CONTACT_SOLREF = (0.005, 1.0)
 FRICTION_CONE = mujoco.mjtCone.mjCONE_ELLIPTIC
 FRICTION_IMPRATIO = 10.0
-"""The friction law: Coulomb's cone |f_t| <= mu f_n (elliptic), with friction 10 times harder
-than the normal constraint (`impratio`), as PyBullet's (its default `enableConeFriction`, a
-rigid friction constraint). Measured (2026-11-27, a 30 kg box on a 25 deg incline, mu 0.6,
-pushed sideways by r f_n, `tests/sims/test_agreement.py`): the slip threshold is the circle's r
-= sqrt(0.6^2 - tan^2 25 deg) = 0.378 with this cone in MuJoCo and in PyBullet; with MuJoCo's
+"""The friction law: Coulomb's cone |f_t| <= mu f_n (elliptic), as PyBullet's (its default
+`enableConeFriction`); the friction constraint 10 times harder than the normal one
+(`impratio`), so that a contact below the limit does not creep (Bullet's friction is a rigid
+constraint). Measured (2026-11-27, a 30 kg box on a 25 deg incline, mu 0.6, pushed sideways
+by r f_n, `tests/sims/test_agreement.py`): the slip threshold is the circle's r =
+sqrt(0.6^2 - tan^2 25 deg) = 0.378 with this cone in MuJoCo and in PyBullet; with MuJoCo's
 pyramidal cone, used before, it was 0.134 (the pyramid's edges along the sole's axes make the
 cone a diamond, |f_x| + |f_y| <= mu f_n: 0.71 mu along a diagonal). The soft friction
 constraint also lets a contact creep below the limit, in proportion to the load over the
 friction's impedance: 0.27 mm/s for the box at impratio 1, 0.03 mm/s at 10; a stance sole on
-Fig. 4 (A)'s board, with a tenth of the box's effective mass, crept down it at 6 mm/s (26 mm
-per stance) at impratio 1 (pyramidal) and 0.2 mm/s at 10. With both, (A) fell at 30.7 s
-(MuJoCo) against 54.9 s (PyBullet); with this cone and impratio, at 54.8 s."""
+Fig. 4 (A)'s board crept down it at 6 mm/s (26 mm per stance) at impratio 1 and 0.2 mm/s at 10
+(both pyramidal). With the pyramidal cone at impratio 1, (A) as redesigned on 2026-11-27 fell
+at 30.7 s (MuJoCo) against 54.9 s (PyBullet); with this cone and impratio, at 54.8 s."""
 GRASP_SOLREF = CONTACT_SOLREF
 """A grasp's weld corrects its error with a contact's time constant (5 ms, critically damped:
 as fast as a 1 ms step allows, timeconst >= 2 dt)."""
@@ -127,16 +128,22 @@ def _keep_warning(message: str) -> None:
 mujoco.set_mju_user_warning(_keep_warning)
 
 
+def set_physics_options(spec: mujoco.MjSpec, physics_dt: float, gravity: float) -> None:
+    """The integrator, step [s], gravity [m/s^2] and friction law of every model here (see the
+    module docstring, `FRICTION_CONE`)."""
+    spec.option.timestep = physics_dt
+    spec.option.gravity = [0.0, 0.0, -gravity]
+    spec.option.integrator = mujoco.mjtIntegrator.mjINT_EULER
+    spec.option.cone = FRICTION_CONE
+    spec.option.impratio = FRICTION_IMPRATIO
+
+
 @functools.lru_cache(maxsize=8)
 def build_model(robot: RobotDescription, scene: Scene) -> mujoco.MjModel:
     """Compile robot + scene into an MjModel with the scene's physics settings. Cached per
     process (the simulator never changes its model; each episode gets a new MjData)."""
     spec = mujoco.MjSpec.from_file(str(generate(robot).mjcf))
-    spec.option.timestep = scene.physics_dt
-    spec.option.gravity = [0.0, 0.0, -scene.gravity]
-    spec.option.integrator = mujoco.mjtIntegrator.mjINT_EULER
-    spec.option.cone = FRICTION_CONE
-    spec.option.impratio = FRICTION_IMPRATIO
+    set_physics_options(spec, scene.physics_dt, scene.gravity)
     for geom in spec.geoms:
         geom.friction = [scene.friction, 0.0, 0.0]
         geom.condim = 3

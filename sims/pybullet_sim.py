@@ -10,8 +10,8 @@ Physics settings (same intent as `sims.mujoco_sim`; see README "Simulator differ
 - PyBullet's default link damping (0.04 linear and angular) set to 0, joint damping 0;
 - contact and friction ERP 0.2 (see CONTACT_ERP);
 - friction: Bullet multiplies the two bodies' coefficients, so robot links get 1.0 and the
-  scene gets `scene.friction`; restitution 0; no spinning or rolling friction; no
-  self-collision (the URDF_USE_SELF_COLLISION flag is not given);
+  scene gets `scene.friction`; Coulomb's cone (`CONE_FRICTION`); restitution 0; no spinning
+  or rolling friction; no self-collision (the URDF_USE_SELF_COLLISION flag is not given);
 - the IMU accelerometer is the finite difference of the IMU frame's velocity over the last
   physics step, minus gravity (PyBullet has no IMU sensor).
 
@@ -128,6 +128,19 @@ def clear_cache() -> None:
         pb.disconnect(physicsClientId=_idle_clients.pop())
 
 
+def engine_parameters(physics_dt: float) -> dict:
+    """`setPhysicsEngineParameter`'s arguments for every world here: the step [s], no
+    sub-steps, deterministic pairs, `CONTACT_ERP` and the friction law (`CONE_FRICTION`)."""
+    return {
+        "fixedTimeStep": physics_dt,
+        "numSubSteps": 0,
+        "deterministicOverlappingPairs": 1,
+        "contactERP": CONTACT_ERP,
+        "frictionERP": CONTACT_ERP,
+        "enableConeFriction": CONE_FRICTION,
+    }
+
+
 class PybulletSimulator(SimulatorBase):
     name = "pybullet"
 
@@ -161,15 +174,7 @@ class PybulletSimulator(SimulatorBase):
     def _load_new(self, robot: RobotDescription, scene: Scene) -> None:
         """Load robot and scene into the empty world of `self.client`."""
         c = self.client
-        pb.setPhysicsEngineParameter(
-            fixedTimeStep=scene.physics_dt,
-            numSubSteps=0,
-            deterministicOverlappingPairs=1,
-            contactERP=CONTACT_ERP,
-            frictionERP=CONTACT_ERP,
-            enableConeFriction=CONE_FRICTION,
-            physicsClientId=c,
-        )
+        pb.setPhysicsEngineParameter(**engine_parameters(scene.physics_dt), physicsClientId=c)
         pb.setGravity(0.0, 0.0, -scene.gravity, physicsClientId=c)
         body = self.body = pb.loadURDF(
             str(generate(robot).urdf), flags=pb.URDF_USE_INERTIA_FROM_FILE, physicsClientId=c

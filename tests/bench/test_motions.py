@@ -555,7 +555,7 @@ def test_hand_wall_completes_with_feedforward_torques(sim):
     """(A) with Murooka's pair and the `ik_feedforward` layer walks the whole scaffold, the
     palm on the wall: no fall, the base never tilted by more than 10 deg, both feet ending on
     the ground within 5 cm of the last foothold (x = 2.05 m). With the paper's `ik` layer it
-    falls at 54.8 s in both simulators (the xfail above)."""
+    falls at 54.8 / 54.9 s (MuJoCo / PyBullet, `_FALLS` below)."""
     from bench.motions import WALL_WALK_FOOTHOLDS
 
     result = run_controller("preview_control+centroidal_feedback+ik_feedforward", sim, "hand_wall")

@@ -226,24 +226,30 @@ def test_jvrc1_spec_file_is_the_full_standing_protocol_on_jvrc1():
 
 
 NOT_AT_REST = {
-    "direct_centroidal": "inertia control: falls within 0.7 s standing (issue 17 note)",
+    "direct_centroidal": "inertia control: falls within 1.1 s standing (issue 17 note)",
     "direct_centroidal/no_inertia": "the knees still straightening (time constant 0.3 s): "
     "6.5 / 3.5 mm/s at the push time in MuJoCo / PyBullet (issue 17 note)",
+    ("hold+posture", "mujoco"): "our baseline sways at about 1 mm/s for 3 s in MuJoCo (CoM speed "
+    "at most 1.02 mm/s over 1.4-1.5 s, 1.37 over 1.5-2 s, 0.97 over 2-3 s, 2026-11-27); it "
+    "passed with the pyramidal cone at 0.91 mm/s, by the sway's phase (1.34 over 1.5-2 s)",
 }
 
 
-@pytest.mark.parametrize("sim", ["mujoco", "pybullet"])
-@pytest.mark.parametrize(
-    "controller",
-    [
-        pytest.param(name, marks=pytest.mark.xfail(strict=True, reason=NOT_AT_REST[name]))
-        if name in NOT_AT_REST
-        else name
-        for name in sorted(CONTROLLERS)
-    ],
-)
+def _at_rest_cases():
+    """(controller, sim) for every registered controller, xfail where `NOT_AT_REST` says."""
+    cases = []
+    for name in sorted(CONTROLLERS):
+        for sim in ("mujoco", "pybullet"):
+            reason = NOT_AT_REST.get(name) or NOT_AT_REST.get((name, sim))
+            marks = () if reason is None else pytest.mark.xfail(strict=True, reason=reason)
+            cases.append(pytest.param(name, sim, marks=marks))
+    return cases
+
+
+@pytest.mark.parametrize(("controller", "sim"), _at_rest_cases())
 def test_robot_is_at_rest_when_the_standing_push_starts(controller, sim):
-    """The protocol pushes at 0.2 s: by then the standing robot has settled (its ground-truth
+    """The protocol pushes at `standing_push_time` (1.5 s): by then the standing robot has
+    settled (its ground-truth
     CoM speed is below 1 mm/s, more than two orders of magnitude below the pushes' 0.2-0.4
     m/s), with every registered controller in both simulators."""
     from bench.controllers import controller_spec

@@ -345,7 +345,8 @@ BOX_MASS, BOX_HALF = 30.0, (0.11, 0.06, 0.05)  # a sole-sized box [kg], [m]
 def _box_on_incline_slides(sim_name: str, ratio: float, seconds: float = 1.0) -> float:
     """How far [m] a box resting on a 25 deg incline (friction MU) moves in `seconds` under a
     horizontal force across the slope of `ratio` times its normal load, with the contact
-    settings each simulator module uses for the robot."""
+    settings each simulator module uses for the robot (`set_physics_options`,
+    `engine_parameters`)."""
     normal = BOX_MASS * G * np.cos(INCLINE_RAD)
     force = [0.0, ratio * normal, 0.0]
     c, s = np.cos(INCLINE_RAD), np.sin(INCLINE_RAD)
@@ -354,11 +355,10 @@ def _box_on_incline_slides(sim_name: str, ratio: float, seconds: float = 1.0) ->
     if sim_name == "mujoco":
         import mujoco
 
-        from sims.mujoco_sim import CONTACT_SOLREF, FRICTION_CONE, FRICTION_IMPRATIO
+        from sims.mujoco_sim import CONTACT_SOLREF, set_physics_options
 
         spec = mujoco.MjSpec()
-        spec.option.timestep, spec.option.integrator = 1e-3, mujoco.mjtIntegrator.mjINT_EULER
-        spec.option.cone, spec.option.impratio = FRICTION_CONE, FRICTION_IMPRATIO
+        set_physics_options(spec, 1e-3, G)
         quaternion = [np.cos(-INCLINE_RAD / 2), 0.0, np.sin(-INCLINE_RAD / 2), 0.0]
         slope = spec.worldbody.add_geom(type=mujoco.mjtGeom.mjGEOM_BOX, size=[2.0, 2.0, 0.1])
         slope.quat, slope.pos = quaternion, list(-rotation @ np.array([0.0, 0.0, 0.1]))
@@ -378,19 +378,12 @@ def _box_on_incline_slides(sim_name: str, ratio: float, seconds: float = 1.0) ->
         return float(np.linalg.norm(data.qpos[:3] - start))
     import pybullet as pb
 
-    from sims.pybullet_sim import CONE_FRICTION, CONTACT_ERP
+    from sims.pybullet_sim import engine_parameters
 
     client = pb.connect(pb.DIRECT)
     try:
         pb.setGravity(0.0, 0.0, -G, physicsClientId=client)
-        pb.setPhysicsEngineParameter(
-            fixedTimeStep=1e-3,
-            numSubSteps=0,
-            contactERP=CONTACT_ERP,
-            frictionERP=CONTACT_ERP,
-            enableConeFriction=CONE_FRICTION,
-            physicsClientId=client,
-        )
+        pb.setPhysicsEngineParameter(**engine_parameters(1e-3), physicsClientId=client)
         quaternion = pb.getQuaternionFromEuler([0.0, -INCLINE_RAD, 0.0])
         slope_shape = pb.createCollisionShape(
             pb.GEOM_BOX, halfExtents=[2.0, 2.0, 0.1], physicsClientId=client
@@ -414,7 +407,14 @@ def _box_on_incline_slides(sim_name: str, ratio: float, seconds: float = 1.0) ->
         )
         # the robot's links have friction 1, the scene's MU: Bullet multiplies them
         pb.changeDynamics(slope, -1, lateralFriction=MU, physicsClientId=client)
-        pb.changeDynamics(box, -1, lateralFriction=1.0, physicsClientId=client)
+        pb.changeDynamics(
+            box,
+            -1,
+            lateralFriction=1.0,
+            linearDamping=0.0,
+            angularDamping=0.0,
+            physicsClientId=client,
+        )
         for _ in range(500):
             pb.stepSimulation(physicsClientId=client)
         start = np.array(pb.getBasePositionAndOrientation(box, physicsClientId=client)[0])
