@@ -13,6 +13,7 @@ equal rows; they are merged.
 
 from __future__ import annotations
 
+import contextlib
 import functools
 
 import numpy as np
@@ -22,6 +23,7 @@ _THROUGH_ORIGIN = 1e-9  # facet offset (for unit generators) below which it cont
 _SAME_FACE = 1e-7  # unit normals closer than this are one facet
 _HOLDS = 1e-9  # largest F g of a unit generator g: every generator is inside every face
 _WIDE_MERGE = "Qx Q12"  # scipy adds its defaults (Qbb Qc Qt); Q12: merge wide dupridges
+_JOGGLE = "QJ"  # joggled input: simplicial facets, no merging
 
 
 def cone_faces(generators: np.ndarray) -> np.ndarray:
@@ -50,36 +52,56 @@ def _faces_of_exact(shape: tuple[int, int], data: bytes) -> np.ndarray:
         )
     unit = g / np.linalg.norm(g, axis=0)
     points = np.vstack([np.zeros(dimension), unit.T])
+    faces = None
     try:
-        hull = ConvexHull(points)
+        faces = _hull_faces(ConvexHull(points), dimension)
     except QhullError:
         # Many generators lie on each facet through the origin, and Qhull can stop at a
         # "dupridge" it cannot merge within its default bound (JVRC-1's two soles, measured):
-        # option Q12 lets it merge wider; the faces it gives are then checked to hold every
-        # generator (below). The first attempt keeps Qhull's defaults so that cones it could
-        # enumerate before give the same faces.
-        try:
-            hull = ConvexHull(points, qhull_options=_WIDE_MERGE)
-        except QhullError as exc:
-            raise ValueError(f"Qhull could not enumerate the cone's faces: {exc}") from exc
+        # option Q12 lets it merge wider. The first attempt keeps Qhull's defaults so that
+        # cones it could enumerate before give the same faces.
+        with contextlib.suppress(QhullError):
+            faces = _hull_faces(ConvexHull(points, qhull_options=_WIDE_MERGE), dimension)
+    if faces is not None and _outside(faces, unit) <= _HOLDS:
+        return faces
+    # A wide merge can also give faces that cut into the cone (Fig. 4 (A): a sole on level
+    # ground and a palm on a side wall, a generator 6.2e-3 outside, measured): joggle the
+    # points (QJ), which makes every facet a simplex, and take the facets at the origin, a
+    # complete fan around it; the check below still holds them to every generator.
+    try:
+        hull = ConvexHull(points, qhull_options=_JOGGLE)
+    except QhullError as exc:
+        raise ValueError(f"Qhull could not enumerate the cone's faces: {exc}") from exc
+    faces = _merged(hull.equations[np.any(hull.simplices == 0, axis=1), :dimension])
+    if _outside(faces, unit) > _HOLDS:
+        raise ValueError(
+            f"Qhull's faces leave a generator {_outside(faces, unit):.1e} outside the cone "
+            f"(more than {_HOLDS:g}): no face form"
+        )
+    return faces
+
+
+def _hull_faces(hull: ConvexHull, dimension: int) -> np.ndarray:
+    """The hull's facets through the origin, merged (none: the cone is the whole space)."""
     normals, offsets = hull.equations[:, :dimension], hull.equations[:, dimension]
     through_origin = np.abs(offsets) < _THROUGH_ORIGIN
     if not np.any(through_origin):  # the origin is interior: the cone is the whole space
         return np.zeros((0, dimension))
-    faces = normals[through_origin]
-    faces = faces / np.linalg.norm(faces, axis=1, keepdims=True)
-    # merge Qhull's coplanar triangles: a face is kept unless one kept before it is within
-    # _SAME_FACE in every component
+    return _merged(normals[through_origin])
+
+
+def _merged(normals: np.ndarray) -> np.ndarray:
+    """Unit rows, Qhull's coplanar triangles merged: a face is kept unless one kept before it
+    is within _SAME_FACE in every component."""
+    faces = normals / np.linalg.norm(normals, axis=1, keepdims=True)
     distance = np.abs(faces[:, None, :] - faces[None, :, :]).max(axis=2)
     kept: list[int] = []
     for i in range(len(faces)):
         if not kept or distance[i, kept].min() >= _SAME_FACE:
             kept.append(i)
-    faces = faces[kept]
-    outside = float((faces @ unit).max()) if len(faces) else 0.0
-    if outside > _HOLDS:
-        raise ValueError(
-            f"Qhull's faces leave a generator {outside:.1e} outside the cone (more than "
-            f"{_HOLDS:g}): no face form"
-        )
-    return faces
+    return faces[kept]
+
+
+def _outside(faces: np.ndarray, unit: np.ndarray) -> float:
+    """The largest F g over the unit generators (0 without faces)."""
+    return float((faces @ unit).max()) if len(faces) else 0.0

@@ -132,3 +132,35 @@ def test_a_cone_qhull_stops_on_by_default_gets_its_faces_with_wider_merges():
         agree += _inside(faces, wrench) == in_cone
     assert 40 < inside < 360
     assert agree == 400
+
+
+def test_a_cone_whose_wide_merge_cuts_into_it_gets_its_faces_from_joggled_points():
+    """A sole on level ground and the right palm on its wall (Fig. 4 (A): the generators
+    `linear_mpc` built for `hand_wall`, kept in tests/data): Qhull's defaults stop at a
+    dupridge and its wide merge (Q12) gives faces that leave a ridge 6e-3 outside; `cone_faces`
+    then joggles the points, and its faces hold every ridge and agree with the independent
+    membership test (NNLS on the ridges)."""
+    from pathlib import Path
+
+    from scipy.spatial import ConvexHull, QhullError
+
+    g = np.load(Path(__file__).parents[1] / "data" / "hand_wall_wide_merge_cone.npy")
+    unit = g / np.linalg.norm(g, axis=0)
+    points = np.vstack([np.zeros(6), unit.T])
+    with pytest.raises(QhullError, match="dupridge"):
+        ConvexHull(points)
+    merged = ConvexHull(points, qhull_options="Qx Q12")
+    at_origin = merged.equations[np.abs(merged.equations[:, 6]) < 1e-9, :6]
+    assert np.max(at_origin @ unit) > 1e-3  # the wide merge cuts into the cone
+    faces = cone_faces(g)
+    assert np.max(faces @ unit) <= 1e-9
+    rng = np.random.default_rng(7)
+    agree = inside = 0
+    for _ in range(400):
+        wrench = g @ rng.uniform(0.0, 1.0, g.shape[1]) * 50.0 + rng.normal(size=6) * 30.0
+        _, residual = nnls(g, wrench)
+        in_cone = residual < 1e-7 * np.linalg.norm(wrench)
+        inside += in_cone
+        agree += _inside(faces, wrench) == in_cone
+    assert 40 < inside < 360
+    assert agree == 400
