@@ -584,8 +584,8 @@ before the fourth foothold down: 70 phases), 0.85 m straightened the elbow in 26
 only (the reference's start)."""
 PAPER_WALL_HAND_KD = 1000.0
 """Table II's note: the hands' linear K_d in contact "1000 for walking with hands on the wall"."""
-WALL_WALK_LIFT = 0.05
-"""[m] at scale 1: a foot's swing rises to this above the higher of its two footholds."""
+WALL_WALK_SWING_PROFILE = "cubic_spline_simple"
+"""(A)'s swings, feet and palms: Murooka et al.'s own (`robots.swing`)."""
 
 
 def _walkway(scale: float, x: float) -> tuple[float, Quaternion]:
@@ -655,7 +655,7 @@ def hand_wall_motion(model: RobotModel, duration: float | None = None) -> Scenar
         for foot in ("right_foot", "left_foot"):
             y = feet[foot].position_world[1]
             target = Contact(foot, (x, y, z), orientation)
-            sequence.move((target,), WALL_WALK_SWING_S * time_scale, lift=WALL_WALK_LIFT * s)
+            sequence.move((target,), WALL_WALK_SWING_S * time_scale)
             feet[foot] = target
             sequence.hold(WALL_WALK_DOUBLE_S * time_scale)
         position, orientation = poses["right_hand"]
@@ -682,6 +682,8 @@ def hand_wall_motion(model: RobotModel, duration: float | None = None) -> Scenar
         duration,
         hand_contact_kd_linear=PAPER_WALL_HAND_KD,
         com_height_offset=WALL_WALK_COM_HEIGHT * s,
+        swing_profile=WALL_WALK_SWING_PROFILE,
+        swing_scale=s,
     )
 
 

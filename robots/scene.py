@@ -13,6 +13,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from robots.gait import GaitCommand
+from robots.swing import cubic_spline_simple_swing
 
 
 @dataclass(frozen=True)
@@ -301,6 +302,10 @@ class HandTarget:
     position_world: tuple[float, float, float]
 
 
+SWING_PROFILES = ("quintic", "cubic_spline_simple")
+"""`Scenario.swing_profile`'s choices."""
+
+
 @dataclass(frozen=True)
 class Scenario:
     """One experiment, as data: the scene, the contact sequence (phases cover [0, duration]),
@@ -315,6 +320,12 @@ class Scenario:
     pushes: tuple[PushEvent, ...] = ()
     swing_height: float = 0.05
     """Clearance [m] of a limb moving between two contacts (peak, at mid-swing)."""
+    swing_profile: str = "quintic"
+    """How a limb moves from one contact straight to the next (`limb_pose`): "quintic" (ours,
+    the default) or "cubic_spline_simple" (Murooka et al.'s own implementation,
+    `robots.swing`); to or from a waypoint it is always the quintic."""
+    swing_scale: float = 1.0
+    """The robot's scale: multiplies the "cubic_spline_simple" swing's offsets."""
     goal_offset_world: tuple[float, float] | None = None
     """Where a walk's gait command ends, relative to where it starts (x, y) [m]; None: no
     walk."""
@@ -337,6 +348,13 @@ class Scenario:
     com_height_offset: float | None = None
     """[m] the constant offset of the CoM reference above the feet's mean height (Murooka Sec.
     V-C); None: the CoM's height above the soles at the start (`planners.reference`)."""
+
+    def __post_init__(self) -> None:
+        if self.swing_profile not in SWING_PROFILES:
+            raise ValueError(
+                f"swing_profile must be one of {', '.join(SWING_PROFILES)}, "
+                f"got {self.swing_profile!r}"
+            )
 
     @functools.cached_property
     def _hand_timeline(self) -> dict[str, tuple[list[float], list[np.ndarray]]]:
@@ -363,6 +381,11 @@ class Scenario:
         times, positions = timeline
         i = bisect.bisect_right(times, time) - 1
         return positions[i].copy() if i >= 0 else None
+
+    @functools.cached_property
+    def _waypoint_times(self) -> frozenset[tuple[str, float]]:
+        """(limb, time) of every waypoint: which of `_neighbours`' poses are not contacts."""
+        return frozenset((w.limb, w.time) for w in self.limb_waypoints)
 
     @functools.cached_property
     def _releases(self) -> frozenset[tuple[str, float]]:
@@ -467,6 +490,19 @@ class Scenario:
                 np.array(contact.orientation_world, dtype=float),
             )
         (t0, start), (t1, end) = previous, following
+        if (
+            self.swing_profile == "cubic_spline_simple"
+            and (limb, t0) not in self._waypoint_times
+            and (limb, t1) not in self._waypoint_times
+        ):
+            swing = cubic_spline_simple_swing(
+                t0,
+                t1,
+                (start.position_world, start.orientation_world),
+                (end.position_world, end.orientation_world),
+                self.swing_scale,
+            )
+            return swing.position(time), swing.orientation(time)
         s = (time - t0) / (t1 - t0)
         blend = s**3 * (10 - 15 * s + 6 * s * s)
         p0, p1 = np.array(start.position_world), np.array(end.position_world)
