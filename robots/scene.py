@@ -320,12 +320,6 @@ class Scenario:
     pushes: tuple[PushEvent, ...] = ()
     swing_height: float = 0.05
     """Clearance [m] of a limb moving between two contacts (peak, at mid-swing)."""
-    swing_profile: str = "quintic"
-    """How a limb moves from one contact straight to the next (`limb_pose`): "quintic" (ours,
-    the default) or "cubic_spline_simple" (Murooka et al.'s own implementation,
-    `robots.swing`); to or from a waypoint it is always the quintic."""
-    swing_scale: float = 1.0
-    """The robot's scale: multiplies the "cubic_spline_simple" swing's offsets."""
     goal_offset_world: tuple[float, float] | None = None
     """Where a walk's gait command ends, relative to where it starts (x, y) [m]; None: no
     walk."""
@@ -348,6 +342,12 @@ class Scenario:
     com_height_offset: float | None = None
     """[m] the constant offset of the CoM reference above the feet's mean height (Murooka Sec.
     V-C); None: the CoM's height above the soles at the start (`planners.reference`)."""
+    swing_profile: str = "quintic"
+    """How a limb moves from one contact straight to the next (`limb_pose`): "quintic" (ours,
+    the default) or "cubic_spline_simple" (Murooka et al.'s own implementation,
+    `robots.swing`); to or from a waypoint it is always the quintic."""
+    swing_scale: float = 1.0
+    """The robot's scale: multiplies the "cubic_spline_simple" swing's offsets."""
 
     def __post_init__(self) -> None:
         if self.swing_profile not in SWING_PROFILES:
