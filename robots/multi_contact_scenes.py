@@ -49,13 +49,17 @@ amplitude of 20 mm and 2 degrees"."""
 WALL_INNER_FACE_Y = 0.45
 """(E): the walls' faces 0.45 m either side of the walkway's centre line: 0.24 m beyond
 the shoulders, within the arm's 0.48 m reach with the elbow bent."""
-WALL_WALK_FACE_Y = 0.41
-"""(A): the walls' faces 0.41 m either side of the walkway's centre line (0.20 m beyond the
+WALL_WALK_FACE_Y = 0.40
+"""(A): the walls' faces 0.40 m either side of the walkway's centre line (0.19 m beyond the
 shoulders). From the kinematic check (`centrobench check --scenario hand_wall`): at (E)'s 0.45
 m the arm of the palm on the wall straightened (the elbow at its limit) in the single
 supports on the far foot, the body swaying 0.09 m away from the wall: in 7 of the motion's 78
-phases as it is now, none at 0.41 m (while (A) had three footholds down and 70 phases: 7 at
-0.45 m, 2 at 0.41 m and 3 at 0.40 m; 0.38 m put the wrists at their limits)."""
+phases with our lifted swing, none at 0.41 m (while (A) had three footholds down and 70 phases: 7 at
+0.45 m, 2 at 0.41 m and 3 at 0.40 m; 0.38 m put the wrists at their limits). With the
+authors' swing (`robots.swing`, 2026-11-27, session 25) 0.41 m left the left elbow at its
+limit in the first step onto the board (1 of 78 phases; with our lifted swing it had been
+within 0.01 rad of it there) and 0.40 m in none (0.39 m none either, the CoM 0.5 mm further
+off)."""
 WALL_THICKNESS = 0.10
 WALL_HEIGHT = 2.0
 BOARD_RUN = 0.60
@@ -207,7 +211,7 @@ def hand_wall(robot: RobotDescription) -> Scene:
 
     The paper's Fig. 5 has the left hand on the wall for 1-6 s and the right hand for 6-10 s
     (the motion switches hands), so there is a wall on each side (ours): `wall_left` and
-    `wall_right`, faces at y = +-0.41 m (`WALL_WALK_FACE_Y`), 0.10 m thick, 2.0 m high, from
+    `wall_right`, faces at y = +-0.40 m (`WALL_WALK_FACE_Y`), 0.10 m thick, 2.0 m high, from
     0.5 m behind the start to 0.5 m beyond the last board. Every length x robot.scale; the
     angle is not scaled."""
     s = robot.scale

@@ -76,11 +76,12 @@ def test_the_stairs_keep_the_knees_bent_and_the_com_on_its_reference(model):
 
 def test_the_scaffold_walk_keeps_ankles_wrists_and_the_com_within_reach(model):
     """Fig. 4 (A) with the ankle pitch to -1.48 rad and the wrists to +-1.92 rad (JVRC-1's
-    ranges), the walls 0.41 m out and the palm moved at every foothold, midway to the next
-    (`WALL_WALK_FACE_Y`, `hand_wall_palm_place`, a fourth foothold down): no link touches,
+    ranges), the walls 0.40 m out and the palm moved at every foothold, midway to the next
+    (`WALL_WALK_FACE_Y`, `hand_wall_palm_place`, a fourth foothold down), the authors' swing
+    (`robots.swing`; with it the walls at 0.41 m left an elbow at its limit): no link touches,
     no ankle, wrist, knee or elbow reaches a limit, and after the first phase (the reference
     starting 4.6 cm below the standing CoM) the IK alone keeps the CoM within 15 mm of its
-    reference and every tracked limb within 10 mm of its target (12 and 7 mm measured). As
+    reference and every tracked limb within 10 mm of its target (11.7 and 7.2 mm measured). As
     first built (ankles to -1.0, wrists to +-1.2, walls at 0.45 m, the palm 0.10 m ahead of
     the feet, moved every other foothold) an ankle was at its limit in 17 of 62 phases and
     the CoM up to 81 mm off."""

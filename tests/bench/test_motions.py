@@ -719,11 +719,11 @@ def test_hand_supports_swings_both_feet_while_the_palms_carry_the_body(scale):
 
 
 _FALLS = {
-    "hand_wall": "(A) falls (2026-11-27, with the authors' swing, `robots.swing`): at 42.5 / "
-    "46.9 s (MuJoCo / PyBullet) at the start of the descent, the soles landing 0.10-0.17 s early "
-    "and 1-4 cm beyond their footholds on the ascent, 4-10 cm on the top board (the estimate "
-    "anchored on the plan's; with our lifted swing 54.8 / 54.9 s, before the redesign 14.0 / "
-    "15.2 s)",
+    "hand_wall": "(A) falls (2026-11-27, with the authors' swing, `robots.swing`, walls 0.40 m "
+    "out): at 42.8 / 56.8 s (MuJoCo / PyBullet) on the descent, the soles landing 0.10-0.17 s "
+    "early and 1-4 cm beyond their footholds on the ascent, 4-8 cm on the top board, up to 21 cm "
+    "on the descent (the estimate anchored on the plan's; with our lifted swing 54.8 / 54.9 s, "
+    "before the redesign 14.0 / 15.2 s)",
     "ladder": "(C) falls (2026-11-24) at 7.82 s in both simulators: the right thigh touches a "
     "rung on the first step up, as the kinematics predict for Sec. V-C's CoM 0.3 m behind "
     "the ladder (README, (C) the ladder)",
