@@ -18,6 +18,15 @@ humanoid's size at scale 1; every offset x the robot's scale):
   blend (3 s^2 - 2 s^3) of the spherical interpolation (MCC: a cubic interpolator
   through R0, R0, R1, R1 at those four times).
 
+Where this differs from MCC (checked against its source, session 25): a limb that starts
+free (from a waypoint, not a contact) keeps our quintic, where MCC draws one spline from the
+start pose to the approach point; the swing starts from the planned contact pose, where MCC
+starts from the IK's last result (`swingStartPolicy: ControlRobot`); the limb's IK task gets
+the pose only, not MCC's velocity and acceleration feed-forward; a limb let go (MCC's Remove
+command: withdraw, hold, stiffness ramped to zero) is handed to the posture task
+(`LimbWaypoint.release`); and MCC's stop of the swing at an early touchdown is not modelled
+(tried in the stabilizer, README "(A)": no change).
+
 Unlike the quintic swing with separate waypoints (`Scenario.limb_pose`'s default, which
 stops at each waypoint), the foot never stops between lift-off and touchdown: the across
 motion is spread over the middle 0.6 T instead of being packed between two stops.
