@@ -629,8 +629,9 @@ def hand_wall_motion(model: RobotModel, duration: float | None = None) -> Scenar
     """Fig. 4 (A): "stepping on scaffold boards with 25 degree incline while keeping the hand
     on a vertical wall" (`robots.multi_contact_scenes.hand_wall`). The left palm reaches the
     left wall, then the feet step foothold by foothold (`WALL_WALK_FOOTHOLDS`, both feet on
-    each in turn, right first, soles pitched with the boards, every swing lifted over the
-    higher foothold) and after every foothold the palm on the wall moves along it
+    each in turn, right first, soles pitched with the boards, every swing of a foot or a palm
+    the authors' own, `WALL_WALK_SWING_PROFILE`) and after every foothold the palm on the wall
+    moves along it
     (`hand_wall_palm_place`: midway to the next foothold; after the last, above it); at
     `WALL_WALK_SWITCH` the right palm takes the right wall and the left hand lets go (Fig. 5's
     switch of hands), the right palm moving along from then on. CoM reference by Sec. V-C's

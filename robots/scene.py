@@ -470,7 +470,9 @@ class Scenario:
         ground, away from the wall for a hand moving on a wall): peak `swing_height` at
         mid-swing, and zero normal velocity and acceleration at lift-off and touchdown, so that
         the foot lands softly; a sin(pi s) bump, used before, landed at 0.2 m/s and made the
-        sole chatter on MuJoCo's contact for 0.15 s); None if the limb is never in contact
+        sole chatter on MuJoCo's contact for 0.15 s), or, from one contact straight to the next
+        in a scenario whose `swing_profile` is "cubic_spline_simple", Murooka et al.'s own
+        swing (`robots.swing`); None if the limb is never in contact
         around `time`. Returns (position [m], orientation (w, x, y, z))."""
         previous, following = self._neighbours(limb, time)
         if following is None and previous is not None and (limb, previous[0]) in self._releases:
