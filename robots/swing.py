@@ -27,9 +27,9 @@ command: withdraw, hold, stiffness ramped to zero) is handed to the posture task
 (`LimbWaypoint.release`); and MCC's stop of the swing at an early touchdown is not modelled
 (tried in the stabilizer, README "(A)": no change).
 
-Unlike the quintic swing with separate waypoints (`Scenario.limb_pose`'s default, which
-stops at each waypoint), the foot never stops between lift-off and touchdown: the across
-motion is spread over the middle 0.6 T instead of being packed between two stops.
+Unlike our lifted swing (`bench.motions.ContactSequence.move(lift=...)`: quintic pieces
+between waypoints, stopping at each), the foot never stops between lift-off and touchdown:
+the across motion is spread over the middle 0.6 T instead of being packed between two stops.
 """
 
 from __future__ import annotations
@@ -75,8 +75,7 @@ class CubicSplineSimpleSwing:
         self.withdraw_s = WITHDRAW_DURATION_RATIO * duration
         self.approach_s = APPROACH_DURATION_RATIO * duration
         self.p0, self.p1 = np.array(start[0], float), np.array(end[0], float)
-        self.q0, self.q1 = np.array(start[1], float), np.array(end[1], float)
-        start_end = Rotation.concatenate([_rotation(self.q0), _rotation(self.q1)])
+        start_end = Rotation.concatenate([_rotation(start[1]), _rotation(end[1])])
         self._slerp = Slerp([0.0, 1.0], start_end)
         self.withdrawn = self.p0 + scale * WITHDRAW_OFFSET_M * _z_axis(start_end[0])
         self.approached = self.p1 + scale * APPROACH_OFFSET_M * _z_axis(start_end[1])
