@@ -10,7 +10,10 @@ pairs are searched side by side: each round runs the next speed of every unfinis
 the local executor's worker processes.
 
 `steps` = 12 gives the gait-phase controllers (`direct_centroidal`, f_g = 1.98 Hz) 21 steps
-of their own (the paper's "20 steps") and the fixed-schedule ones 12 steps of 0.9 s.
+of their own at the commanded speed (the paper's "20 steps"; and the steps of its start at a
+limited acceleration, `planners.five_mass_gait.GAIT_ACCELERATION_MPS2`, for which its walks
+are given speed / acceleration seconds more) and the fixed-schedule ones 12 steps of 0.9 s.
+Every controller's walked speed is measured after that time (`steady_speed`).
 """
 
 from __future__ import annotations
@@ -79,9 +82,17 @@ def speed_episode(item: tuple[str, str, float, int]) -> dict[str, Any]:
     from bench.controllers import controller_spec
     from bench.metrics import walking_quality
     from bench.runner import EpisodeSpec, run_episode
+    from planners.five_mass_gait import GAIT_ACCELERATION_MPS2
+    from robots.gait import GaitCommand
 
     controller, sim, speed, steps = item
     spec = controller_spec(controller)
+    gait = GaitCommand(speed=speed, steps=steps)
+    ramp = speed / GAIT_ACCELERATION_MPS2  # [s] the five-mass gait's start to the speed
+    # the walk's own time, and for the five-mass gait's planners (the only ones that start at
+    # a limited acceleration) as long again as that start may add (at most v / (2 a) + 1 step)
+    duration = gait.start_double_support + gait.steps * gait.step_period
+    duration += gait.end_double_support + (ramp if spec.planner.startswith("five_mass") else 0)
     result = run_episode(
         EpisodeSpec(
             spec.planner,
@@ -92,6 +103,7 @@ def speed_episode(item: tuple[str, str, float, int]) -> dict[str, Any]:
             whole_body=spec.whole_body,
             speed=speed,
             steps=steps,
+            duration=duration,
         )
     )
     summary = result.summary
@@ -102,19 +114,25 @@ def speed_episode(item: tuple[str, str, float, int]) -> dict[str, Any]:
         "status": summary["status"],
         "error": summary["error"],
         "fall_time": summary["fall_time"],
-        "speed_walked_mps": steady_speed(result.footsteps),
+        "speed_walked_mps": steady_speed(result.footsteps, ramp),  # the same for everyone
         "steps_taken": summary["steps_taken"],
         **walking_quality(result.trace),
     }
 
 
-def steady_speed(footsteps: pd.DataFrame | None) -> float | None:
+def steady_speed(footsteps: pd.DataFrame | None, start_s: float = 0.0) -> float | None:
     """The mean forward speed walked [m/s] over the steady steps: the advance of one foot's
-    soles per second between its first and last touchdowns once the first two and the last two
-    touchdowns are left out (the half first and last steps); None with too few touchdowns."""
+    soles per second between its first and last touchdowns, leaving out the first two and the
+    last two touchdowns (the half first and the closing steps) and those within `start_s` [s]
+    of the first lift-off (a walk whose gait command speeds up at a limited acceleration a
+    reaches the speed v after v / a: `speed_episode` leaves that out for every controller);
+    None with too few touchdowns."""
     if footsteps is None or len(footsteps) < 7:
         return None
     middle = footsteps.iloc[2:-2]
+    middle = middle[middle["touchdown_time_s"] > footsteps["liftoff_time_s"].iloc[0] + start_s]
+    if middle.empty:
+        return None
     same = middle[middle["limb"] == middle["limb"].iloc[0]]
     if len(same) < 2:
         return None

@@ -82,10 +82,39 @@ def gait_frequency(robot_height_m: float) -> float:
     """f_g [Hz] for a robot `robot_height_m` tall, by Froude similarity (equal g t^2 / L for
     the same motion, so f ~ sqrt(g / L)) with the leg length taken proportional to the height:
     f_g = 2.6 Hz sqrt(0.9 m / H). The paper gives the igus robot's height (0.9 m), not its leg
-    length; the proportionality assumes geometric similarity. 1.93 Hz for our 1.64 m humanoid."""
+    length; the proportionality assumes geometric similarity. 1.98 Hz for our 1.56 m humanoid."""
     if not robot_height_m > 0:
         raise ValueError(f"robot height must be positive, got {robot_height_m} m")
     return PAPER_GAIT_FREQUENCY_HZ * math.sqrt(PAPER_ROBOT_HEIGHT_M / robot_height_m)
+
+
+def stride_factors(
+    strides: int, speed_mps: float, acceleration_mps2: float, gait_frequency_hz: float
+) -> tuple[float, ...]:
+    """The fraction of the commanded stride (eq. 3's v_g^ref / f_g) of each step of a walk
+    that starts from rest with its gait command's speed limited to `acceleration_mps2`: step
+    k (1, 2, ...) takes min(1, a k / (f_g v)) of it, until the fractions add up to `strides`
+    full strides, so that the walk covers the distance, turn and sideways offset of `strides`
+    commanded strides. The part of a stride that this leaves over is taken among the ramp's
+    steps (the fractions sorted: no step then grows by more than a / (f_g v)), so that the
+    walk ends at its full speed. Not in the paper, which does not say
+    how its walks start (`GAIT_ACCELERATION_MPS2` in `planners.five_mass_gait`); zero
+    `speed_mps` or `acceleration_mps2` <= 0 gives full strides from the first step."""
+    if strides < 0:
+        raise ValueError(f"strides must be non-negative, got {strides}")
+    if not gait_frequency_hz > 0:
+        raise ValueError(f"gait frequency must be positive, got {gait_frequency_hz} Hz")
+    if speed_mps <= 0 or acceleration_mps2 <= 0:
+        return (1.0,) * strides
+    factors: list[float] = []
+    covered = 0.0
+    while covered < strides - 1e-9:
+        k = len(factors) + 1
+        factor = min(1.0, acceleration_mps2 * k / (gait_frequency_hz * speed_mps))
+        factor = min(factor, strides - covered)
+        factors.append(factor)
+        covered += factor
+    return tuple(sorted(factors))
 
 
 def timing_gain(gait_frequency_hz: float, robot_height_m: float) -> float:

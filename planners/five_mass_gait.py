@@ -29,13 +29,17 @@ reference's from the reference state, the expected from the estimated CoM state.
 
 Starting and stopping, which the paper does not describe: before the first step the reference
 ZMP moves to the first swing foot for half a step period (a weight shift: the LIPM moves the
-reference CoM toward the support foot), and after the last step, which closes the feet side by
-side, the reference CoM returns to the feet's midpoint critically damped with rate omega.
+reference CoM toward the support foot); the gait command's speed then rises at
+`GAIT_ACCELERATION_MPS2` (the first strides are fractions of eq. 3's, `stride_factors`, and the
+walk takes as many steps as the commanded strides add up to); after the last step, which closes
+the feet side by side, the reference CoM returns to the feet's midpoint critically damped with
+rate omega.
 Standing, before the walk, the reference CoM starts at the robot's own CoM and returns to the
 midpoint the same way (a robot's nominal CoM need not be above the midpoint: JVRC-1's is
-19.8 mm behind it). The number of steps is the gait command's stepping time (steps x its step
-period) times f_g, so that a walk lasts as long and (at the commanded speed) goes as far as the
-fixed schedule's.
+19.8 mm behind it). The number of commanded strides is the time of the fixed schedule's
+steps - 1 advances ((steps - 1) x its step period) times f_g, so that a walk goes as far as the
+fixed schedule's (until 2026-11-27 it was steps x its step period x f_g, less the closing step:
+one stride, 7 cm, further at the default speed).
 """
 
 from __future__ import annotations
@@ -53,6 +57,7 @@ from centroidal.lipm import (
     lipm_state,
     modified_foot_placement,
     step_primitive,
+    stride_factors,
     timing_gain,
 )
 from centroidal.rotations import from_matrix, heading_quaternion, yaw_of
@@ -65,6 +70,15 @@ from robots.types import CentroidalPlan, Footstep, RobotState
 
 GRAVITY = 9.81
 STEP_SIZE_GAIN = 1.0  # K_s (Sec. 4)
+# The walk's start from rest (ours, not in the paper): the gait command's speed rises at this
+# acceleration [m/s^2] (`centroidal.lipm.stride_factors`). The authors' lab's gait (the
+# paper's [3], AIS-Bonn/humanoid_op_ros) slope-limits its gait command in the same way
+# (`gcvAccLimits`, in units of its normalised command). An acceleration is the same for
+# robots of every size under Froude similarity (lengths ~ L, times ~ sqrt(L)). Measured on
+# `walk` with `bent_no_inertia` (2026-11-27, MuJoCo): without a limit the walk falls in its
+# first steps from 0.2 m/s up (its footholds, refined toward a path that starts at full
+# stride, run ahead of a CoM at rest); at 0.2 / 0.3 m/s^2 it falls at 0.5 m/s, at 0.1 walks.
+GAIT_ACCELERATION_MPS2 = 0.1
 
 
 @dataclass(frozen=True)
@@ -152,7 +166,16 @@ class FiveMassGaitPlanner:
         if gait.step_width is not None:
             self.step_width = gait.step_width * scale
         self.start_time = gait.start_double_support
-        self.n_steps = max(2, round(gait.steps * step_period * self.f_g))
+        # the commanded strides: as many as cover the fixed schedule's steps - 1 advances
+        # (steps - 1 step periods at the speed), each a fraction of a full one while the speed
+        # ramps up; then the closing step
+        self.stride_factors = stride_factors(
+            max(1, round((gait.steps - 1) * step_period * self.f_g)),
+            float(np.linalg.norm(self.velocity_command)),
+            GAIT_ACCELERATION_MPS2,
+            self.f_g,
+        )
+        self.n_steps = len(self.stride_factors) + 1
         leftward = lateral > 0 or (lateral == 0 and self.yaw_rate_command > 0)
         self.first_swing = "left_foot" if leftward else "right_foot"
 
@@ -281,10 +304,17 @@ class FiveMassGaitPlanner:
     def _copy(foothold: _Foothold) -> _Foothold:
         return _Foothold(foothold.position.copy(), foothold.yaw)
 
-    def _nominal_after(self, support: _Foothold, support_name: str, closing: bool) -> _Foothold:
-        """Eq. 3: the foothold after `support`, in its frame."""
+    def _nominal_after(
+        self, support: _Foothold, support_name: str, closing: bool, index: int | None = None
+    ) -> _Foothold:
+        """Eq. 3: the foothold after `support`, in its frame; as step `index` (1, 2, ...) of
+        the walk, with the gait command scaled by that step's stride factor (the start's
+        ramp; None: the full command)."""
         iota = 1.0 if support_name == "right_foot" else -1.0
-        v_x, v_y = self.velocity_command
+        ramping = index is not None and index <= len(self.stride_factors)
+        factor = self.stride_factors[index - 1] if ramping else 1.0
+        v_x, v_y = factor * self.velocity_command
+        yaw_rate = factor * self.yaw_rate_command
         if closing:
             x_s, y_s, psi_s = 0.0, iota * self.step_width, 0.0
         else:
@@ -292,7 +322,7 @@ class FiveMassGaitPlanner:
             x_s, y_s, psi_s = (
                 v_x / self.f_g,
                 iota * self.step_width + s_y,
-                self.yaw_rate_command / self.f_g,
+                yaw_rate / self.f_g,
             )
         offset = yaw_rotation(support.yaw) @ np.array([x_s, y_s, 0.0])
         return _Foothold(support.position + offset, support.yaw + psi_s)
@@ -303,11 +333,13 @@ class FiveMassGaitPlanner:
         toward the walk primitive of the step after it."""
         support = self.path[self.support]
         closing = self.steps_done == self.n_steps - 1
-        nominal = self._nominal_after(support, self.support, closing)
+        nominal = self._nominal_after(support, self.support, closing, self.steps_done + 1)
         self.next_path = self._copy(nominal)
         if not closing:
             swing = self._swing()
-            after = self._nominal_after(nominal, swing, self.steps_done + 1 == self.n_steps - 1)
+            after = self._nominal_after(
+                nominal, swing, self.steps_done + 1 == self.n_steps - 1, self.steps_done + 2
+            )
             frame = yaw_rotation(nominal.yaw)[:2, :2]
             step = frame.T @ (after.position[:2] - nominal.position[:2])
             x_bar, v_x, y_bar, v_y = step_primitive(step[0], step[1], self.omega, self.period)
@@ -338,7 +370,9 @@ class FiveMassGaitPlanner:
             limit = self.step_width / 2
             nominal.position[:2] += np.clip(refined - nominal.position[:2], -limit, limit)
         else:  # the closing step lands beside the actual support
-            nominal = self._nominal_after(self.feet[self.support], self.support, True)
+            nominal = self._nominal_after(
+                self.feet[self.support], self.support, True, self.steps_done + 1
+            )
         self.next_nominal = nominal
         self.next = self._copy(nominal)
 

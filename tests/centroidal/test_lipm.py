@@ -16,6 +16,7 @@ from centroidal.lipm import (
     lipm_state,
     modified_foot_placement,
     step_primitive,
+    stride_factors,
     timing_gain,
 )
 
@@ -117,3 +118,35 @@ def test_the_walk_primitive_is_a_lipm_solution():
     y, w = lipm_state(y_bar, -v_y, 0.0, omega, period)
     assert (y, w) == pytest.approx((y_bar, v_y), abs=1e-12)
     assert np.sign(v_y) == np.sign(y_bar)
+
+
+@pytest.mark.parametrize(
+    ("strides", "speed", "acceleration"),
+    [(17, 0.139, 0.1), (20, 0.5, 0.1), (20, 0.6, 0.3), (3, 0.8, 0.05), (5, 0.01, 1.0)],
+)
+def test_the_start_s_strides_cover_the_commanded_ones_within_the_acceleration(
+    strides, speed, acceleration
+):
+    """A walk starting from rest covers exactly `strides` commanded strides; each step's
+    stride (as a speed: fraction x v) rises by at most a / f_g per step (the speed limited
+    to the acceleration) and never exceeds the command; the partial strides all come first
+    (the walk ends at full speed), no more of them than the steps the ramp needs."""
+    f_g = 1.98
+    factors = stride_factors(strides, speed, acceleration, f_g)
+    assert sum(factors) == pytest.approx(strides, abs=1e-9)
+    speeds = np.array([0.0, *factors]) * speed
+    assert np.all(np.diff(speeds) >= 0.0)
+    assert np.all(np.diff(speeds) <= acceleration / f_g + 1e-12)
+    assert max(factors) <= 1.0
+    assert min(factors) > 0.0
+    ramp = math.ceil(f_g * speed / acceleration - 1e-12)  # steps until a k / f_g >= v
+    assert sum(factor < 1.0 for factor in factors) <= ramp
+    if len(factors) > ramp:
+        assert factors[-1] == 1.0
+
+
+def test_without_a_speed_or_a_limit_every_stride_is_full():
+    assert stride_factors(4, 0.0, 0.1, 1.98) == (1.0,) * 4
+    assert stride_factors(4, 0.3, 0.0, 1.98) == (1.0,) * 4
+    with pytest.raises(ValueError, match="strides"):
+        stride_factors(-1, 0.3, 0.1, 1.98)

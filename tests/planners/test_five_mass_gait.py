@@ -7,7 +7,7 @@ import numpy as np
 import pytest
 
 from bench.scenarios import make_scenario, walk
-from planners.five_mass_gait import FiveMassGaitPlanner, SteppingOptions
+from planners.five_mass_gait import GAIT_ACCELERATION_MPS2, FiveMassGaitPlanner, SteppingOptions
 from robots.gait import GaitCommand
 from robots.humanoid import humanoid
 from robots.model import RobotModel
@@ -148,3 +148,25 @@ def test_standing_the_reference_starts_at_the_robots_com_and_settles_on_the_feet
     assert np.all(zmp >= soles.min(axis=0) - half)
     assert np.all(zmp <= soles.max(axis=0) + half)
     assert zmp[0] @ (middle - start) < start @ (middle - start)  # first behind the CoM
+
+
+@pytest.mark.parametrize("speed", [0.2, 0.5])
+def test_from_rest_the_reference_speeds_up_and_never_falls_back(model, speed):
+    """A walk commanded at `speed` from rest: the reference CoM (eq. 1 about footholds refined
+    after Kajita) moves forward until the closing step, at most about the command's speed, and
+    goes as far as the fixed schedule's walk. Without the start's acceleration limit the footholds,
+    refined toward a path that starts at full stride, run ahead of a CoM at rest and the
+    reference falls back from its support (0.19 m behind by 2.6 s at 0.2 m/s)."""
+    scenario = make_scenario("walk", model, speed=speed, steps=12)
+    planner, state = _start(model, scenario)
+    assert planner.stride_factors[0] < 1.0
+    velocity, com = [], []
+    for k in range(round((scenario.duration + speed / GAIT_ACCELERATION_MPS2) / DT)):
+        plan, state = _follow(planner, state, k * DT)
+        if planner.steps_done < planner.n_steps - 1:  # the closing step stops it in one step
+            velocity.append(plan.com_velocity_planned_world[0])
+        com.append(plan.com_planned_world[0])
+    assert planner.steps_done == planner.n_steps
+    assert min(velocity) > -0.01
+    assert max(velocity) < 1.5 * speed
+    assert com[-1] - com[0] == pytest.approx(scenario.goal_offset_world[0], rel=0.05)
