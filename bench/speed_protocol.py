@@ -12,8 +12,8 @@ the local executor's worker processes.
 `steps` = 12 gives the gait-phase controllers (`direct_centroidal`, f_g = 1.98 Hz) 21 steps
 of their own at the commanded speed (the paper's "20 steps"; and the steps of its start at a
 limited acceleration, `planners.five_mass_gait.GAIT_ACCELERATION_MPS2`, for which its walks
-are given speed / acceleration seconds more) and the fixed-schedule ones 12 steps of 0.9 s.
-Every controller's walked speed is measured after that time (`steady_speed`).
+are given speed / acceleration seconds more, and their walked speed is measured after that
+time, `steady_speed`) and the fixed-schedule ones 12 steps of 0.9 s.
 """
 
 from __future__ import annotations
@@ -88,11 +88,12 @@ def speed_episode(item: tuple[str, str, float, int]) -> dict[str, Any]:
     controller, sim, speed, steps = item
     spec = controller_spec(controller)
     gait = GaitCommand(speed=speed, steps=steps)
-    ramp = speed / GAIT_ACCELERATION_MPS2  # [s] the five-mass gait's start to the speed
-    # the walk's own time, and for the five-mass gait's planners (the only ones that start at
-    # a limited acceleration) as long again as that start may add (at most v / (2 a) + 1 step)
+    # [s] the five-mass gait's start to the speed (its planners are the only ones that start
+    # at a limited acceleration): its walks are that much longer (the start adds at most
+    # v / (2 a) and a step) and their steady steps are counted after it
+    ramp = speed / GAIT_ACCELERATION_MPS2 if spec.planner.startswith("five_mass") else 0.0
     duration = gait.start_double_support + gait.steps * gait.step_period
-    duration += gait.end_double_support + (ramp if spec.planner.startswith("five_mass") else 0)
+    duration += gait.end_double_support + ramp
     result = run_episode(
         EpisodeSpec(
             spec.planner,
@@ -114,7 +115,7 @@ def speed_episode(item: tuple[str, str, float, int]) -> dict[str, Any]:
         "status": summary["status"],
         "error": summary["error"],
         "fall_time": summary["fall_time"],
-        "speed_walked_mps": steady_speed(result.footsteps, ramp),  # the same for everyone
+        "speed_walked_mps": steady_speed(result.footsteps, ramp),
         "steps_taken": summary["steps_taken"],
         **walking_quality(result.trace),
     }
@@ -125,8 +126,8 @@ def steady_speed(footsteps: pd.DataFrame | None, start_s: float = 0.0) -> float 
     soles per second between its first and last touchdowns, leaving out the first two and the
     last two touchdowns (the half first and the closing steps) and those within `start_s` [s]
     of the first lift-off (a walk whose gait command speeds up at a limited acceleration a
-    reaches the speed v after v / a: `speed_episode` leaves that out for every controller);
-    None with too few touchdowns."""
+    reaches the speed v after v / a: `speed_episode` leaves that out for the five-mass gait,
+    the only planner that starts so); None with too few touchdowns."""
     if footsteps is None or len(footsteps) < 7:
         return None
     middle = footsteps.iloc[2:-2]

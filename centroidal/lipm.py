@@ -104,6 +104,10 @@ def stride_factors(
         raise ValueError(f"strides must be non-negative, got {strides}")
     if not gait_frequency_hz > 0:
         raise ValueError(f"gait frequency must be positive, got {gait_frequency_hz} Hz")
+    if not (math.isfinite(speed_mps) and math.isfinite(acceleration_mps2)):
+        raise ValueError(
+            f"speed and acceleration must be finite, got {speed_mps}, {acceleration_mps2}"
+        )
     if speed_mps <= 0 or acceleration_mps2 <= 0:
         return (1.0,) * strides
     factors: list[float] = []

@@ -30,8 +30,9 @@ reference's from the reference state, the expected from the estimated CoM state.
 Starting and stopping, which the paper does not describe: before the first step the reference
 ZMP moves to the first swing foot for half a step period (a weight shift: the LIPM moves the
 reference CoM toward the support foot); the gait command's speed then rises at
-`GAIT_ACCELERATION_MPS2` (the first strides are fractions of eq. 3's, `stride_factors`, and the
-walk takes as many steps as the commanded strides add up to); after the last step, which closes
+`GAIT_ACCELERATION_MPS2` (the first strides are fractions of eq. 3's, `stride_factors`, the
+walk takes as many steps as the commanded strides add up to, and a sideways walk's wide leading
+step takes its own and the trailing step's shares); after the last step, which closes
 the feet side by side, the reference CoM returns to the feet's midpoint critically damped with
 rate omega.
 Standing, before the walk, the reference CoM starts at the robot's own CoM and returns to the
@@ -311,14 +312,24 @@ class FiveMassGaitPlanner:
         the walk, with the gait command scaled by that step's stride factor (the start's
         ramp; None: the full command)."""
         iota = 1.0 if support_name == "right_foot" else -1.0
-        ramping = index is not None and index <= len(self.stride_factors)
-        factor = self.stride_factors[index - 1] if ramping else 1.0
+        factor = self._stride_factor(index)
         v_x, v_y = factor * self.velocity_command
         yaw_rate = factor * self.yaw_rate_command
         if closing:
             x_s, y_s, psi_s = 0.0, iota * self.step_width, 0.0
         else:
-            s_y = 2 * v_y / self.f_g if iota == math.copysign(1.0, v_y) and v_y != 0 else 0.0
+            # the sideways step covers its own and the trailing step's share of the command
+            # (2 v_y / f_g at full stride; the closing step has none), so that the walk's
+            # sideways offset is its strides' (with the start's ramp too)
+            if index is None:
+                trailing = factor
+            else:
+                trailing = (
+                    self._stride_factor(index + 1) if index < len(self.stride_factors) else 0.0
+                )
+            shares = factor + trailing
+            leading = iota == math.copysign(1.0, v_y) and v_y != 0
+            s_y = shares * self.velocity_command[1] / self.f_g if leading else 0.0
             x_s, y_s, psi_s = (
                 v_x / self.f_g,
                 iota * self.step_width + s_y,
@@ -326,6 +337,13 @@ class FiveMassGaitPlanner:
             )
         offset = yaw_rotation(support.yaw) @ np.array([x_s, y_s, 0.0])
         return _Foothold(support.position + offset, support.yaw + psi_s)
+
+    def _stride_factor(self, index: int | None) -> float:
+        """The fraction of eq. 3's stride that step `index` (1, 2, ...) takes: the start's
+        ramp (`stride_factors`); 1 after it, for the closing step, or for None."""
+        if index is None or index > len(self.stride_factors):
+            return 1.0
+        return self.stride_factors[index - 1]
 
     def _plan_next_foothold(self) -> None:
         """s[k+1]: eq. 3 from the support's nominal foothold (the walk's path, without the

@@ -135,3 +135,47 @@ def test_the_steady_speed_leaves_out_the_start_s_acceleration():
     assert steady_speed(footsteps, 4.0) == pytest.approx(0.4, abs=1e-12)
     assert steady_speed(footsteps) < 0.39
     assert steady_speed(footsteps, 100.0) is None
+
+
+def _fixed_schedule_touchdowns(speed: float) -> pd.DataFrame:
+    """12 steps of 0.9 s from 1.0 s, the path advancing speed x 0.9 s per step."""
+    rows = []
+    for k in range(1, 13):
+        limb = "right_foot" if k % 2 else "left_foot"
+        advances = 1 if k in (1, 12) else 2
+        previous = rows[-2]["x_m"] if len(rows) >= 2 else 0.0
+        rows.append(
+            {
+                "limb": limb,
+                "liftoff_time_s": 1.0 + 0.9 * (k - 1),
+                "touchdown_time_s": 1.0 + 0.9 * k - 0.135,
+                "x_m": previous + advances * speed * 0.9,
+            }
+        )
+    return pd.DataFrame(rows)
+
+
+@pytest.mark.parametrize(
+    ("controller", "longer_s"),
+    [("preview_control+centroidal_feedback", 0.0), ("direct_centroidal/bent_no_inertia", 7.5)],
+)
+def test_only_the_five_mass_gait_s_walks_are_longer_and_counted_after_its_start(
+    monkeypatch, controller, longer_s
+):
+    """At 0.75 m/s a fixed-schedule walk keeps its own duration (13.3 s) and its steady speed
+    is measured (not None); the five-mass gait's walk is given v / a = 7.5 s more."""
+    import bench.runner
+    from bench.runner import EpisodeResult
+
+    seen = {}
+
+    def fake_run(spec, **_):
+        seen["duration"] = spec.duration
+        summary = {"status": "ok", "error": None, "fall_time": None, "steps_taken": 12}
+        return EpisodeResult(summary, pd.DataFrame(), _fixed_schedule_touchdowns(0.75))
+
+    monkeypatch.setattr(bench.runner, "run_episode", fake_run)
+    row = speed_episode((controller, "mujoco", 0.75, 12))
+    assert seen["duration"] == pytest.approx(1.0 + 12 * 0.9 + 1.5 + longer_s)
+    if longer_s == 0.0:
+        assert row["speed_walked_mps"] == pytest.approx(0.75)

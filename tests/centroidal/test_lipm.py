@@ -150,3 +150,5 @@ def test_without_a_speed_or_a_limit_every_stride_is_full():
     assert stride_factors(4, 0.3, 0.0, 1.98) == (1.0,) * 4
     with pytest.raises(ValueError, match="strides"):
         stride_factors(-1, 0.3, 0.1, 1.98)
+    with pytest.raises(ValueError, match="finite"):
+        stride_factors(4, math.inf, 0.1, 1.98)

@@ -170,3 +170,22 @@ def test_from_rest_the_reference_speeds_up_and_never_falls_back(model, speed):
     assert min(velocity) > -0.01
     assert max(velocity) < 1.5 * speed
     assert com[-1] - com[0] == pytest.approx(scenario.goal_offset_world[0], rel=0.05)
+
+
+def test_with_the_start_s_ramp_a_sideways_walk_still_goes_its_strides_sideways(model):
+    """`walk_side` (eq. 3's wide leading step and trailing step) started at a limited
+    acceleration: its path's sideways offset is its strides' (the sum of the stride factors
+    x v_y / f_g, no more), within 0.5 mm of the fixed schedule's 0.45 m."""
+    scenario = make_scenario("walk_side", model)
+    planner, state = _start(model, scenario)
+    assert planner.stride_factors[0] < 1.0
+    start = (planner.path["left_foot"].position + planner.path["right_foot"].position) / 2
+    k = 0
+    while planner.mode != "stop":
+        _, state = _follow(planner, state, k * DT)
+        k += 1
+    end = (planner.path["left_foot"].position + planner.path["right_foot"].position) / 2
+    strides = sum(planner.stride_factors)
+    expected = strides * planner.velocity_command[1] / planner.f_g
+    assert end[1] - start[1] == pytest.approx(expected, abs=1e-9)
+    assert end[1] - start[1] == pytest.approx(scenario.goal_offset_world[1], abs=5e-4)
