@@ -97,9 +97,9 @@ def stride_factors(
     full strides, so that the walk covers the distance, turn and sideways offset of `strides`
     commanded strides. The part of a stride that this leaves over is taken among the ramp's
     steps (the fractions sorted: no step then grows by more than a / (f_g v)), so that the
-    walk ends at its full speed. Not in the paper, which does not say
-    how its walks start (`GAIT_ACCELERATION_MPS2` in `planners.five_mass_gait`); zero
-    `speed_mps` or `acceleration_mps2` <= 0 gives full strides from the first step."""
+    walk ends at its full speed. Not in the paper, which does not say how its walks start
+    (`GAIT_ACCELERATION_MPS2` in `planners.five_mass_gait`); zero `speed_mps` or
+    `acceleration_mps2` <= 0 gives full strides from the first step."""
     if strides < 0:
         raise ValueError(f"strides must be non-negative, got {strides}")
     if not gait_frequency_hz > 0:

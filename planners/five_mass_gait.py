@@ -323,10 +323,10 @@ class FiveMassGaitPlanner:
             # sideways offset is its strides' (with the start's ramp too)
             if index is None:
                 trailing = factor
+            elif index < len(self.stride_factors):
+                trailing = self.stride_factors[index]  # step index + 1's
             else:
-                trailing = (
-                    self._stride_factor(index + 1) if index < len(self.stride_factors) else 0.0
-                )
+                trailing = 0.0
             shares = factor + trailing
             leading = iota == math.copysign(1.0, v_y) and v_y != 0
             s_y = shares * self.velocity_command[1] / self.f_g if leading else 0.0
