@@ -225,10 +225,18 @@ class FiveMassGaitPlanner:
         beta = brentq(energy, 0.0, 1.0) if energy(0.0) * energy(1.0) < 0 else 1.0
         return self.com_ref + beta * (swing - self.com_ref)
 
+    def _standing_heading(self) -> float:
+        """[rad] the heading on two feet: the mean of their yaws."""
+        return (self.feet["left_foot"].yaw + self.feet["right_foot"].yaw) / 2
+
     def _begin_walking(self, t: float) -> None:
         self.mode = "walk"
         self.support = "right_foot" if self.first_swing == "left_foot" else "left_foot"
         self.previous = self._copy(self.feet[self.first_swing])
+        # eq. 5's yaw starts from the standing heading, not the support foot's, which can
+        # differ (JVRC-1's half-sitting soles: 0.014 and -0.007 rad; a jump of 0.01 rad in
+        # one period turned both hip yaws at once)
+        self.heading_from = self._standing_heading()
         self.mu = 0.0
         self.steps_done = 0
         self.step_start_time = t
@@ -275,6 +283,7 @@ class FiveMassGaitPlanner:
         self.feet[swing] = self._copy(self.next)
         self.path[swing] = self.next_path
         self.support = swing
+        self.heading_from = self.feet[swing].yaw  # eq. 5: s_psi[k]
         self.step_start_time = t
         self.zmp_ref = self.feet[self.support].position[:2].copy()
         if self.steps_done >= self.n_steps:
@@ -429,10 +438,10 @@ class FiveMassGaitPlanner:
                     heading_quaternion(target.yaw),
                 ),
             )
-            heading = (1 - mu) * self.feet[self.support].yaw + mu * target.yaw
+            heading = (1 - mu) * self.heading_from + mu * target.yaw
         else:
             contacts = ("left_foot", "right_foot")
-            heading = (self.feet["left_foot"].yaw + self.feet["right_foot"].yaw) / 2
+            heading = self._standing_heading()
         com = np.array([self.com_ref[0], self.com_ref[1], self.ground + self.height])
         velocity = np.array([self.velocity_ref[0], self.velocity_ref[1], 0.0])
         acceleration = np.zeros(3)

@@ -190,3 +190,25 @@ def test_with_the_start_s_ramp_a_sideways_walk_still_goes_its_strides_sideways(m
     expected = strides * planner.velocity_command[1] / planner.f_g
     assert end[1] - start[1] == pytest.approx(expected, abs=1e-9)
     assert end[1] - start[1] == pytest.approx(scenario.goal_offset_world[1], abs=5e-4)
+
+
+def test_the_heading_is_continuous_when_the_feet_are_yawed_apart():
+    """JVRC-1's half-sitting soles are yawed 0.014 and -0.007 rad. Eq. 5's yaw
+    (1 - mu) s_psi[k] + mu s_psi[k+1] from the support foot's yaw would turn the planned base
+    and inertia axes by 0.010 rad in the period the walk starts (both hip yaws then stepped at
+    once); it starts from the standing heading, the feet's mean yaw, and on `walk` no period's
+    planned heading moves by more than the walk's fastest turn of a foot, well under 1 mrad."""
+    from centroidal.rotations import yaw_of
+    from robots.jvrc1 import jvrc1
+
+    jvrc = RobotModel(jvrc1())
+    planner, state = _start(jvrc, make_scenario("walk", jvrc))
+    yaws = [planner.feet[f"{side}_foot"].yaw for side in ("left", "right")]
+    assert abs(yaws[0] - yaws[1]) > 0.015  # the case this test is about
+    heading = []
+    for k in range(round(4.0 / DT)):
+        plan, state = _follow(planner, state, k * DT)
+        heading.append(yaw_of(plan.base_orientation_planned_world))
+    assert planner.steps_done >= 3
+    assert heading[0] == pytest.approx(np.mean(yaws), abs=1e-12)
+    assert np.abs(np.diff(heading)).max() < 1e-3
