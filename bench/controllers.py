@@ -98,7 +98,21 @@ DIRECT_CENTROIDAL_ROWS = (
     # ours, not a row of the paper: without the straight-support-leg constraint as well, which
     # survives more walking pushes on our robot (README, issue 17)
     ("bent_no_inertia", "five_mass_gait", "direct_centroidal_no_inertia", "five_mass_pose_bent"),
+    # ours: the same with the free limbs' gravity torques, part of the model feed-forward of the
+    # authors' platform software (`wholebody.five_mass_pose.FreeLimbGravity`)
+    (
+        "bent_no_inertia_feedforward",
+        "five_mass_gait",
+        "direct_centroidal_no_inertia",
+        "five_mass_pose_bent_feedforward",
+    ),
 )
+OURS = {
+    "bent_no_inertia": "ours: bent knees, no inertia control",
+    "bent_no_inertia_feedforward": "ours: bent knees, no inertia control, the free limbs' "
+    "gravity feed-forward",
+}
+"""The rows of `DIRECT_CENTROIDAL_ROWS` that are not the paper's, and how they differ."""
 
 
 def _direct_centroidal(row: str, planner: str, stabilizer: str, layer: str) -> ControllerSpec:
@@ -108,8 +122,7 @@ def _direct_centroidal(row: str, planner: str, stabilizer: str, layer: str) -> C
         planner,
         stabilizer,
         f"{DIRECT_CENTROIDAL} ("
-        + ("ours: bent knees, no inertia control" if row == "bent_no_inertia" else "Table 1: ")
-        + ("" if row == "bent_no_inertia" else row.replace("_", " "))
+        + (OURS[row] if row in OURS else "Table 1: " + row.replace("_", " "))
         + ")",
         layer,
         alias="direct_centroidal" if row == "step_size" else f"direct_centroidal/{row}",

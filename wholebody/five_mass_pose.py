@@ -13,7 +13,15 @@ It is the whole-body IK (`wholebody.ik`) with the tasks changed to the generator
   the trunk's roll and pitch are free, so that the inertia tilt is realised by the upper body
   against the legs, as the generator's dumbbell tilt;
 - joint positions to the servos, no feed-forward torque (the paper's robot is position
-  controlled, Sec. 4).
+  controlled, Sec. 4); or, as a variant (`feedforward=True`, `five_mass_pose_feedforward`),
+  with the gravity torques of the limbs that carry no contact (`free_limb_gravity`), the part
+  of the model feed-forward of the authors' platform software that does not depend on how the
+  load splits between the feet: humanoid_op_ros (the paper's [3]; AIS-Bonn/humanoid_op_ros,
+  `robotinterface.cpp`) offsets each servo's position command by its model torque
+  (`ServoCommandGenerator::servoCommandFor(pos, vel, acc, modelTorque)`: the same as a
+  feed-forward torque on a position servo), the inverse dynamics of single-support models
+  weighted by the gait's support coefficients (`SingleSupportModel`), when its `useModel`
+  is set (set for one of its three robot configurations; the paper does not say).
 
 How it differs from the paper's generator: it solves one weighted least-squares step per
 period instead of the generator's closed-form top-down construction (virtual leg, dumbbells);
@@ -26,11 +34,12 @@ lower limit plus a margin, with the CoM height freed, instead of a shift of the 
 from __future__ import annotations
 
 import numpy as np
+import pinocchio as pin
 from numba import njit
 
 from robots.five_mass import FiveMassModel
 from robots.model import RobotModel
-from robots.types import WholeBodyTargets
+from robots.types import JointCommand, RobotState, WholeBodyTargets
 from wholebody.base import ComponentSpec, register
 from wholebody.ik import IKWeights, WholeBodyIK
 from wholebody.ik_only import IkLayer
@@ -79,25 +88,36 @@ def inertia_axis_jacobian(
     return result
 
 
+def limb_chains(model: RobotModel) -> list[np.ndarray]:
+    """Per limb (in limb order), the indices (in joint order) of the joints between the base
+    and the limb's link: the joints whose torques a contact at that limb loads."""
+    robot = model.robot
+    parent_joint = {j.child: j for j in robot.joints}
+    chains = []
+    for limb in robot.limbs:
+        link, chain = limb.link, []
+        while link in parent_joint:
+            joint = parent_joint[link]
+            chain.append(robot.joint_names.index(joint.name))
+            link = joint.parent
+        chains.append(np.array(chain, dtype=int))
+    return chains
+
+
 def knee_indices(model: RobotModel) -> dict[str, int]:
     """Per foot limb, the index (in joint order) of the knee on its chain: the joint whose
     name contains "knee" in any case (the humanoid's `left_knee`, JVRC-1's `L_KNEE`) between the
-    base and the foot. ValueError naming the foot without one."""
+    base and the foot (the one nearest the base if several). ValueError naming the foot
+    without one."""
     robot = model.robot
-    parent_joint = {j.child: j for j in robot.joints}
     result = {}
-    for limb in robot.limbs:
+    for limb, chain in zip(robot.limbs, limb_chains(model), strict=True):
         if not limb.name.endswith("foot"):
             continue
-        link, knee = limb.link, None
-        while link in parent_joint:
-            joint = parent_joint[link]
-            if "knee" in joint.name.lower():
-                knee = joint.name
-            link = joint.parent
-        if knee is None:
+        knees = [j for j in chain.tolist() if "knee" in robot.joint_names[j].lower()]
+        if not knees:
             raise ValueError(f"{robot.name}: no joint named *knee on the chain of {limb.name}")
-        result[limb.name] = robot.joint_names.index(knee)
+        result[limb.name] = knees[-1]
     return result
 
 
@@ -152,19 +172,62 @@ class FiveMassIK(WholeBodyIK):
         return n
 
 
+class FreeLimbGravity:
+    """Feed-forward torques [N m] that hold the limbs carrying no contact against gravity:
+    g_j(q) (pinocchio's generalised gravity at the IK's configuration) on every joint that lies
+    on no contact limb's chain, 0 on the contact limbs' chains. On a free joint the torque
+    holds the subtree beyond it, whatever the contacts carry, so it is exact at rest (a moving
+    base or limb adds inertial terms, left out); on a contact chain it would depend on how the
+    load splits between the contacts, which this layer does not know (the stabilizer sets no
+    contact wrenches), so none is given there."""
+
+    def __init__(self, model: RobotModel) -> None:
+        self.model = model.model
+        self.data = self.model.createData()
+        self.chains = limb_chains(model)
+
+    def torques(self, q: np.ndarray, limb_in_contact: np.ndarray) -> np.ndarray:
+        gravity = pin.computeGeneralizedGravity(self.model, self.data, q)[6:].copy()
+        for chain, contact in zip(self.chains, limb_in_contact.tolist(), strict=True):
+            if contact:
+                gravity[chain] = 0.0
+        return gravity
+
+
 class FiveMassPoseLayer(IkLayer):
     """`ik`'s command (joint positions to the servos, no feed-forward torque) from the
-    five-mass IK."""
+    five-mass IK; with `feedforward`, plus the free limbs' gravity torques
+    (`FreeLimbGravity`)."""
 
     name = "five_mass_pose"
 
-    def __init__(self, model: RobotModel, dt: float, straight_leg: bool = True) -> None:
+    def __init__(
+        self, model: RobotModel, dt: float, straight_leg: bool = True, feedforward: bool = False
+    ) -> None:
         super().__init__(model, dt)
         self.ik = FiveMassIK(model, dt, straight_leg=straight_leg)
+        self.gravity = FreeLimbGravity(model) if feedforward else None
+
+    def command(self, targets: WholeBodyTargets, state: RobotState) -> JointCommand:
+        position, velocity = self.ik.solve(targets)
+        torque = (
+            self.zero_torque
+            if self.gravity is None
+            else self.gravity.torques(self.ik.q, targets.limb_in_contact)
+        )
+        return JointCommand(position, velocity, torque, self.kp, self.kd)
 
 
 def _bent(model: RobotModel, dt: float) -> FiveMassPoseLayer:
     return FiveMassPoseLayer(model, dt, straight_leg=False)
+
+
+def _feedforward(model: RobotModel, dt: float) -> FiveMassPoseLayer:
+    return FiveMassPoseLayer(model, dt, feedforward=True)
+
+
+def _bent_feedforward(model: RobotModel, dt: float) -> FiveMassPoseLayer:
+    return FiveMassPoseLayer(model, dt, straight_leg=False, feedforward=True)
 
 
 register(
@@ -179,5 +242,20 @@ register(
         "five_mass_pose_bent",
         _bent,
         "five_mass_pose without the straight-support-leg constraint (Table 1 ablation)",
+    )
+)
+register(
+    ComponentSpec(
+        "five_mass_pose_feedforward",
+        _feedforward,
+        "five_mass_pose plus the free limbs' gravity torques (the authors' platform's servo "
+        "model, in part)",
+    )
+)
+register(
+    ComponentSpec(
+        "five_mass_pose_bent_feedforward",
+        _bent_feedforward,
+        "five_mass_pose_bent plus the free limbs' gravity torques",
     )
 )

@@ -22,7 +22,8 @@ def model():
 def test_unknown_layer_lists_the_known_ones(model):
     with pytest.raises(
         KeyError,
-        match="choose one of: five_mass_pose, five_mass_pose_bent, ik, ik_angular_momentum, "
+        match="choose one of: five_mass_pose, five_mass_pose_bent, "
+        "five_mass_pose_bent_feedforward, five_mass_pose_feedforward, ik, ik_angular_momentum, "
         "ik_feedforward",
     ):
         make_whole_body("inverse_dynamics_someday", model, DT)
@@ -90,7 +91,8 @@ def test_controllers_name_their_whole_body_layer():
     assert controller_spec("preview_control+centroidal_feedback+ik") == paper
     with pytest.raises(
         KeyError,
-        match="whole-body layers five_mass_pose, five_mass_pose_bent, ik, ik_angular_momentum, "
+        match="whole-body layers five_mass_pose, five_mass_pose_bent, "
+        "five_mass_pose_bent_feedforward, five_mass_pose_feedforward, ik, ik_angular_momentum, "
         "ik_feedforward",
     ):
         controller_spec("hold+posture+torque_magic")
