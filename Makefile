@@ -33,7 +33,8 @@ bench: $(STAMP)
 ## (the speed search runs again whole); results and report in results/full/
 TABLE_1_ROWS := all,direct_centroidal/open_loop,direct_centroidal/straight_leg,$\
 	direct_centroidal/closed_loop,direct_centroidal/leaky,direct_centroidal/extended,$\
-	direct_centroidal/inertia,direct_centroidal/step_timing,direct_centroidal/bent_no_inertia
+	direct_centroidal/inertia,direct_centroidal/step_timing,direct_centroidal/bent_no_inertia,$\
+	direct_centroidal/bent_no_inertia_feedforward
 bench-full: $(STAMP)
 	$(BIN)/centrobench sweep --spec bench/specs/main_full.toml --out results/full --resume
 	$(BIN)/centrobench speed --controllers $(TABLE_1_ROWS) --sims all --out results/full
