@@ -14,14 +14,20 @@ It is the whole-body IK (`wholebody.ik`) with the tasks changed to the generator
   against the legs, as the generator's dumbbell tilt;
 - joint positions to the servos, no feed-forward torque (the paper's robot is position
   controlled, Sec. 4); or, as a variant (`feedforward=True`, `five_mass_pose_feedforward`),
-  with the gravity torques of the limbs that carry no contact (`free_limb_gravity`), the part
-  of the model feed-forward of the authors' platform software that does not depend on how the
-  load splits between the feet: humanoid_op_ros (the paper's [3]; AIS-Bonn/humanoid_op_ros,
-  `robotinterface.cpp`) offsets each servo's position command by its model torque
-  (`ServoCommandGenerator::servoCommandFor(pos, vel, acc, modelTorque)`: the same as a
-  feed-forward torque on a position servo), the inverse dynamics of single-support models
-  weighted by the gait's support coefficients (`SingleSupportModel`), when its `useModel`
-  is set (set for one of its three robot configurations; the paper does not say).
+  with the gravity torques of the limbs that carry no contact (`FreeLimbGravity`): the
+  gravity part, on the joints where it does not depend on how the load splits between the
+  feet, of the model feed-forward of the authors' platform software. humanoid_op_ros (the
+  paper's [3]; AIS-Bonn/humanoid_op_ros, `nimbro_op_interface/src/robotinterface.cpp`)
+  offsets each servo's position command by a model torque
+  (`ServoCommandGenerator::servoCommandFor(pos, vel, acc, outsideTorque)`, called with the
+  joint's `modelTorque`: pos + a factor x (k_m torque + viscous and Stribeck friction terms),
+  the same as a feed-forward torque on a position servo, blended in through a slope-limited
+  `rawState`); the model torque is the inverse dynamics (gravity, and the commanded joint
+  velocities and accelerations) of single-support models weighted by the gait's support
+  coefficients (`SingleSupportModel`); it is on when `useModel` is set (in one of the
+  repository's three robot configurations, `config_xs1.yaml`; the paper does not say). Left
+  out here: the friction terms, the velocity and acceleration terms, the support legs' share,
+  and the support coefficients' ramps (this torque switches at each exchange).
 
 How it differs from the paper's generator: it solves one weighted least-squares step per
 period instead of the generator's closed-form top-down construction (virtual leg, dumbbells);
@@ -90,7 +96,9 @@ def inertia_axis_jacobian(
 
 def limb_chains(model: RobotModel) -> list[np.ndarray]:
     """Per limb (in limb order), the indices (in joint order) of the joints between the base
-    and the limb's link: the joints whose torques a contact at that limb loads."""
+    and the limb's link, from the limb toward the base (the humanoid's left foot: ankle roll,
+    ankle pitch, knee, hip pitch, hip roll, hip yaw): the joints whose torques a contact at
+    that limb loads."""
     robot = model.robot
     parent_joint = {j.child: j for j in robot.joints}
     chains = []

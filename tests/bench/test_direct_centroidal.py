@@ -62,7 +62,7 @@ def test_with_the_free_limbs_gravity_feedforward_it_ends_within_5_cm_of_the_goal
     that carry no contact (`five_mass_pose_bent_feedforward`, part of the authors' platform's
     servo model) the same walk ends 3.1 / 3.3 cm from the goal (MuJoCo / PyBullet,
     2026-11-27), its touchdowns, still 0.03 s early, half as far behind the plan's footholds by
-    the end (5.6 cm against 10.4 cm in MuJoCo)."""
+    the end (5.5 cm against 10.4 cm in MuJoCo)."""
     result = _run(f"{WALKING}_feedforward", sim, "walk")
     assert result.summary["status"] == "ok"
     assert result.summary["final_position_error_m"] < 0.05

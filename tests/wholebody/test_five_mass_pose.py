@@ -58,14 +58,25 @@ def test_free_limbs_get_their_subtrees_statics_and_contact_chains_nothing(robot)
         assert np.abs(torques[chains[limbs.index(limb)]]).max() > 1.0
 
 
-def test_the_chains_run_from_the_base_to_each_limb():
-    """The humanoid's legs: six joints each from the hip yaw to the ankle roll, and the knee
-    found on them is the one `knee_indices` names."""
+def test_the_chains_run_from_each_limb_to_the_base():
+    """The chains as the robots are built: the humanoid's leg from the ankle roll up to the
+    hip yaw; JVRC-1's leg (mc_rtc's order from the pelvis: hip pitch, roll, yaw, knee, ankle
+    roll, pitch) reversed, and its arm through the three waist joints, which a hand's contact
+    loads and a foot's does not; the knee found on a leg is the one `knee_indices` names."""
     model = RobotModel(humanoid())
     names = model.robot.joint_names
     chains = dict(zip(model.robot.limb_names, limb_chains(model), strict=True))
-    left = [names[j] for j in chains["left_foot"]]
-    assert len(left) == 6
-    assert left[0].startswith("left_ankle")
-    assert left[-1] == "left_hip_yaw"
+    assert [names[j] for j in chains["left_foot"]] == [
+        f"left_{j}"
+        for j in ("ankle_roll", "ankle_pitch", "knee", "hip_pitch", "hip_roll", "hip_yaw")
+    ]
     assert names[knee_indices(model)["left_foot"]] == "left_knee"
+    jvrc = RobotModel(jvrc1())
+    names = jvrc.robot.joint_names
+    chains = dict(zip(jvrc.robot.limb_names, limb_chains(jvrc), strict=True))
+    leg = ["R_HIP_P", "R_HIP_R", "R_HIP_Y", "R_KNEE", "R_ANKLE_R", "R_ANKLE_P"]
+    assert [names[j] for j in chains["right_foot"]] == leg[::-1]
+    arm = ["WAIST_Y", "WAIST_P", "WAIST_R", "L_SHOULDER_P", "L_SHOULDER_R", "L_SHOULDER_Y"]
+    arm += ["L_ELBOW_P", "L_ELBOW_Y", "L_WRIST_R", "L_WRIST_Y"]
+    assert [names[j] for j in chains["left_hand"]] == arm[::-1]
+    assert names[knee_indices(jvrc)["right_foot"]] == "R_KNEE"
