@@ -141,7 +141,9 @@ def footstep_summary(
     simulator's ground truth, not the estimate), and its final
     horizontal distance from the gait command's goal (start + the command's offset) [m]; with
     the plan's footsteps compared (`compare_with_plan`), the largest touchdown time error
-    (absolute) [s] and horizontal position error [m] of any step."""
+    (absolute) [s] and horizontal position error [m] of any step, and their means over the
+    steps (the time error signed: negative when the feet land early, as a sagging swing leg's
+    do) [s, m]."""
     touchdowns = steps["touchdown_time_s"].to_numpy()
     result: dict[str, float | int | None] = {
         "steps_taken": len(steps),
@@ -151,10 +153,16 @@ def footstep_summary(
         "final_position_error_m": None,
         "touchdown_time_error_max_s": None,
         "touchdown_position_error_max_m": None,
+        "touchdown_time_error_mean_s": None,
+        "touchdown_position_error_mean_m": None,
     }
     if "touchdown_time_error_s" in steps and steps["touchdown_time_error_s"].notna().any():
-        result["touchdown_time_error_max_s"] = float(steps["touchdown_time_error_s"].abs().max())
-        result["touchdown_position_error_max_m"] = float(steps["touchdown_position_error_m"].max())
+        time_error = steps["touchdown_time_error_s"]
+        position_error = steps["touchdown_position_error_m"]
+        result["touchdown_time_error_max_s"] = float(time_error.abs().max())
+        result["touchdown_position_error_max_m"] = float(position_error.max())
+        result["touchdown_time_error_mean_s"] = float(time_error.mean())
+        result["touchdown_position_error_mean_m"] = float(position_error.mean())
     if com_start_world is not None and com_end_world is not None:
         travel = np.asarray(com_end_world[:2]) - np.asarray(com_start_world[:2])
         result["distance_walked_m"] = float(np.hypot(*travel))

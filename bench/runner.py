@@ -340,6 +340,8 @@ def _run_episode(
         "final_position_error_m": None,
         "touchdown_time_error_max_s": None,
         "touchdown_position_error_max_m": None,
+        "touchdown_time_error_mean_s": None,
+        "touchdown_position_error_mean_m": None,
         "final_yaw_error_rad": None,
         "hand_error_final_m": None,
         "angular_momentum_error": None,

@@ -231,7 +231,10 @@ def sections(
             "Walking quality (Ficht & Behnke eq. 18)",
             "Integral square errors of the CoM (e_com, m s), ZMP (e_zmp, m s) and CoM velocity "
             "(e_velocity, m/s) against the plan, normalised by walking time and forward speed; "
-            "CoM tracking error RMS [mm].",
+            "CoM tracking error RMS [mm]; where the feet landed against the plan's footsteps: "
+            "mean touchdown time error [ms] (negative: early, as a swing leg that sags lands) "
+            "and mean touchdown position error [mm]; distance from the gait command's goal at "
+            "the end [cm].",
             tables.walking_quality_table(episodes),
         ),
     ]

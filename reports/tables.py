@@ -167,8 +167,11 @@ def survival_rates(episodes: pd.DataFrame, phase: str = "standing") -> pd.DataFr
 
 def walking_quality_table(episodes: pd.DataFrame) -> pd.DataFrame:
     """Ficht & Behnke Table 1's walking quality (eq. 18) per controller x simulator, from
-    the walks: status, forward speed of the plan, e_c [m s], e_z [m s], e_v [m/s], and the CoM
-    tracking error (RMS of ||c - c^p|| [mm])."""
+    the walks: status, forward speed of the plan, e_c [m s], e_z [m s], e_v [m/s], the CoM
+    tracking error (RMS of ||c - c^p|| [mm]), where the feet landed against the plan's
+    footsteps (the mean touchdown time error [ms], negative when early, and the mean
+    horizontal touchdown position error [mm]) and how far from the gait command's goal the
+    walk ended [cm]; medians over a cell's walks."""
     rows = walks(episodes)
     table = (
         rows.groupby(KEYS, sort=True)
@@ -179,6 +182,15 @@ def walking_quality_table(episodes: pd.DataFrame) -> pd.DataFrame:
             e_zmp=("e_zmp", "median"),
             e_velocity=("e_velocity", "median"),
             com_error_rms_mm=("com_error_rms_m", lambda s: 1e3 * s.median()),
+            touchdown_time_error_mean_ms=(
+                "touchdown_time_error_mean_s",
+                lambda s: 1e3 * s.median(),
+            ),
+            touchdown_position_error_mean_mm=(
+                "touchdown_position_error_mean_m",
+                lambda s: 1e3 * s.median(),
+            ),
+            goal_error_cm=("final_position_error_m", lambda s: 1e2 * s.median()),
         )
         .reset_index()
     )

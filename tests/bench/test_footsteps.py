@@ -147,8 +147,14 @@ def test_the_planned_steps_are_the_last_versions_before_their_touchdown():
 
 
 def test_steps_taken_are_compared_with_the_nearest_planned_step_of_the_limb():
+    """A step 10 ms late and (3, 4) mm off, one 30 ms early and 1 cm short: the largest
+    errors, and their means, the time error signed (early is negative)."""
     taken = pd.DataFrame(
-        [("right_foot", 0.1, 0.51, 0.303, 0.004, 0.0, 0.01, 0.3)], columns=list(COLUMNS)
+        [
+            ("right_foot", 0.1, 0.51, 0.303, 0.004, 0.0, 0.01, 0.3),
+            ("right_foot", 1.1, 1.47, 0.79, 0.0, 0.0, 0.0, 0.49),
+        ],
+        columns=list(COLUMNS),
     )
     planned = pd.DataFrame(
         [("right_foot", 0.1, 0.5, 0.3, 0.0, 0.0, 0.0), ("right_foot", 1.1, 1.5, 0.8, 0, 0, 0)],
@@ -158,9 +164,12 @@ def test_steps_taken_are_compared_with_the_nearest_planned_step_of_the_limb():
     assert compared["planned_touchdown_time_s"][0] == 0.5
     assert compared["touchdown_time_error_s"][0] == pytest.approx(0.01)
     assert compared["touchdown_position_error_m"][0] == pytest.approx(0.005)
+    assert compared["touchdown_time_error_s"][1] == pytest.approx(-0.03)
     summary = footstep_summary(compared, None, None, None)
-    assert summary["touchdown_time_error_max_s"] == pytest.approx(0.01)
-    assert summary["touchdown_position_error_max_m"] == pytest.approx(0.005)
+    assert summary["touchdown_time_error_max_s"] == pytest.approx(0.03)
+    assert summary["touchdown_position_error_max_m"] == pytest.approx(0.01)
+    assert summary["touchdown_time_error_mean_s"] == pytest.approx(-0.01)
+    assert summary["touchdown_position_error_mean_m"] == pytest.approx(0.0075)
 
 
 def test_the_runner_compares_with_the_plan_not_the_scenario(monkeypatch):

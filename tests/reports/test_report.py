@@ -96,6 +96,9 @@ def results(tmp_path_factory) -> tuple[Path, pd.DataFrame]:
                 e_com=rms**2,
                 e_zmp=3 * rms**2,
                 e_velocity=rms,
+                touchdown_time_error_mean_s=-2 * rms,
+                touchdown_position_error_mean_m=5 * rms,
+                final_position_error_m=7 * rms,
                 walk_speed_mps=0.25,
                 lat_preview_median_us=preview,
                 lat_preview_p99_us=3 * preview,
@@ -242,6 +245,10 @@ def test_latency_projection_and_walking_tables(results):
         assert quality["com_error_rms_mm"].iloc[k] == pytest.approx(1e3 * rms)
         assert quality["e_zmp"].iloc[k] == pytest.approx(3 * rms**2)
         assert quality["status"].iloc[k] == "ok"
+        # where the feet landed (signed: early is negative) and the goal, in the table's units
+        assert quality["touchdown_time_error_mean_ms"].iloc[k] == pytest.approx(-2e3 * rms)
+        assert quality["touchdown_position_error_mean_mm"].iloc[k] == pytest.approx(5e3 * rms)
+        assert quality["goal_error_cm"].iloc[k] == pytest.approx(7e2 * rms)
 
 
 def test_report_files_hold_every_table(results, tmp_path: Path):
