@@ -70,7 +70,15 @@ STEP_WIDTH_EXTRA_M = (-0.05, 0.2)  # lateral: the standing width -0.05 ... +0.2 
 POSTURE_KP, POSTURE_KD, POSTURE_WEIGHT = 10.0, 2 * math.sqrt(10.0), 1e-3  # eq. 19 [1/s^2, 1/s]
 TORSO_KP, TORSO_KD, TORSO_WEIGHT = 100.0, 20.0, 1.0  # eq. 18
 HAND_KP, HAND_KD, HAND_ERROR_MAX, HAND_WEIGHT = 10.0, 3.0, 0.05, 10.0  # eq. 17 (m: saturation)
-COP_WEIGHT = 10.0  # eq. 21
+COP_WEIGHT = 1e5  # eq. 21 (see below)
+"""Eq. 21's weight, 1e4 times the hand's. The current CoM acceleration c''_0 is shared by the
+whole-body rows (eq. 15) and the preview, whose footsteps are free, so the preview accepts
+almost any c''_0 at the cost of CoP centring alone; at weight 10 the whole-body objectives
+decided it: in `reach_push` 0.3 s after the first push, c''_0 came out +1.28 m/s^2 forward
+and, with one objective left out of the same problem, -0.79 (hand), -0.76 (joint PD, weight
+1e-3), 0.00 (CoM height), +0.55 (torso), and the robot ran forward onto its rectangles' limit
+and fell. Chosen from the standing push protocol (20 pushes at 0.4 m/s, MuJoCo, 2026-11-27):
+weight 10: 8 survived, 1e3: 8, 1e4: 12, 1e5: 15, 1e6: 14 (README, issue 18)."""
 COP_VELOCITY_WEIGHT = 1.0  # eq. 22
 JERK_WEIGHT = 10.0  # eq. 20
 JERK_TIME_FLOOR_S = 0.2  # [s] eq. 20's remaining time no shorter (row norms within 2e3)
@@ -82,8 +90,14 @@ SWING_TIME_FLOOR_S = 0.05  # [s] the cubics' remaining time no shorter (ours: se
 CONTACT_DAMPING = 20.0  # [1/s] eq. 8 as J q'' + J' q' = -K J q' (ours, see _levels)
 SOLE_MARGIN_M = 0.02  # [m] eqs. 7, 11 keep the CoP this far inside the sole's edges (ours)
 MIN_NORMAL_FORCE = 0.05  # a contact sole's least normal force, in units of m g (ours)
-FIRST_STEP_AFTER_S = 1.0  # [s] double support before a reach's first step (ours, as walks)
-STEP_TRIGGER_M = 0.05  # [m] capture point off the feet's middle that makes it step (ours)
+REACH_FIRST_STEP_S, REACH_FIRST_SWING = 0.8, "left_foot"
+"""A reach's walk (the paper's robot "always walks") starts 0.8 s after the first hand target,
+left foot first: the phase of a walk of 0.8 s steps from t = 0 with the right foot first, so
+that the left foot is 0.1 s into its swing at Test 2's first push (2.5 s), which the paper
+describes as "forcing the robot to make a step to the left" and compensated "by adjusting
+footsteps in mid-air". (Until 2026-11-27: after 1.0 s, right foot first, so that the push came
+as the left foot landed and the right one, which cannot step left, swung next.)"""
+STEP_TRIGGER_M = 0.03  # [m] capture point off the feet's middle that makes it step (ours)
 HOLD_PERIODS_MAX = 5  # a hierarchy no solver solves: the last answer held this long (ours)
 STOP_MARGIN_M, STOP_SPEED = 0.02, 0.1  # a push-started walk stops when capture point is inside
 
@@ -272,7 +286,8 @@ class CapturabilityHierarchyPlanner:
             # the paper's robot walks from the start, in place when nothing drives it (Sec.
             # VII-B: "exclusion of (17) from the hierarchy results in walking in place")
             first = min(target.time for target in scenario.hand_targets)
-            self.schedule.start(first + FIRST_STEP_AFTER_S * math.sqrt(self.scale), FEET[1])
+            start = first + REACH_FIRST_STEP_S * math.sqrt(self.scale)
+            self.schedule.start(start, REACH_FIRST_SWING)
         self.warm = None
         self.last_phase = self.schedule.phase(0.0)
         self.solver_failures = 0
