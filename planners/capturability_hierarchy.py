@@ -28,12 +28,12 @@ used: its speed is the velocity objective's reference, and its number of steps b
 constants below: the objectives' weights and gains, the joint-limit horizon T, the
 torsional friction coefficient, the footstep rectangles, the swing's vertical profile, the
 split of a step into 0.7 s single and 0.1 s double support (Herdt et al.'s), and when a
-standing robot starts to step (ours: its capture point 5 cm off the feet's middle; the paper's
-robot walks all the time), and, to make it stand and step on our robot in a simulator (each
-measured, README): the current CoP z_0 bounded too, a 2 cm margin inside the soles, a least
-load on every contact sole, contact-velocity damping in eq. 8, a CoM-height objective, the
-swing's orientation held by a PD, the footstep kept in the last 0.1 s of a swing, and the
-"both feet" support as the box around both soles (exact for feet side by side).
+standing robot starts to step (ours: its capture point 3 cm off the feet's middle; the
+paper's robot walks from the start of its tests), and, to make it stand and step on our robot
+in a simulator (each measured, README): the current CoP z_0 bounded too, a 2 cm margin inside
+the soles, a least load on every contact sole, contact-velocity damping in eq. 8, a CoM-height
+objective, the swing's orientation held by a PD, the footstep kept in the last 0.1 s of a
+swing, and the "both feet" support as the box around both soles (exact for feet side by side).
 """
 
 from __future__ import annotations
@@ -72,13 +72,15 @@ TORSO_KP, TORSO_KD, TORSO_WEIGHT = 100.0, 20.0, 1.0  # eq. 18
 HAND_KP, HAND_KD, HAND_ERROR_MAX, HAND_WEIGHT = 10.0, 3.0, 0.05, 10.0  # eq. 17 (m: saturation)
 COP_WEIGHT = 1e5  # eq. 21 (see below)
 """Eq. 21's weight, 1e4 times the hand's. The current CoM acceleration c''_0 is shared by the
-whole-body rows (eq. 15) and the preview, whose footsteps are free, so the preview accepts
-almost any c''_0 at the cost of CoP centring alone; at weight 10 the whole-body objectives
+whole-body rows (eq. 15) and the preview, which prices it only through the previewed CoPs
+(bounded at level 1, centred by eq. 21, smoothed by eq. 22) and eq. 14; while walking, the free
+footsteps let the preview follow almost any c''_0. At weight 10 the whole-body objectives
 decided it: in `reach_push` 0.3 s after the first push, c''_0 came out +1.28 m/s^2 forward
 and, with one objective left out of the same problem, -0.79 (hand), -0.76 (joint PD, weight
 1e-3), 0.00 (CoM height), +0.55 (torso), and the robot ran forward onto its rectangles' limit
-and fell. Chosen from the standing push protocol (20 pushes at 0.4 m/s, MuJoCo, 2026-11-27):
-weight 10: 8 survived, 1e3: 8, 1e4: 12, 1e5: 15, 1e6: 14 (README, issue 18)."""
+and fell. At 1e5 they still move it (by up to 0.8 m/s^2 in a later state): the weight is
+chosen by its results on the standing push protocol (20 pushes at 0.4 m/s, MuJoCo,
+2026-11-27): weight 10: 8 survived, 1e3: 8, 1e4: 12, 1e5: 15, 1e6: 14 (README, issue 18)."""
 COP_VELOCITY_WEIGHT = 1.0  # eq. 22
 JERK_WEIGHT = 10.0  # eq. 20
 JERK_TIME_FLOOR_S = 0.2  # [s] eq. 20's remaining time no shorter (row norms within 2e3)
@@ -91,12 +93,14 @@ CONTACT_DAMPING = 20.0  # [1/s] eq. 8 as J q'' + J' q' = -K J q' (ours, see _lev
 SOLE_MARGIN_M = 0.02  # [m] eqs. 7, 11 keep the CoP this far inside the sole's edges (ours)
 MIN_NORMAL_FORCE = 0.05  # a contact sole's least normal force, in units of m g (ours)
 REACH_FIRST_STEP_S, REACH_FIRST_SWING = 0.8, "left_foot"
-"""A reach's walk (the paper's robot "always walks") starts 0.8 s after the first hand target,
-left foot first: the phase of a walk of 0.8 s steps from t = 0 with the right foot first, so
-that the left foot is 0.1 s into its swing at Test 2's first push (2.5 s), which the paper
-describes as "forcing the robot to make a step to the left" and compensated "by adjusting
-footsteps in mid-air". (Until 2026-11-27: after 1.0 s, right foot first, so that the push came
-as the left foot landed and the right one, which cannot step left, swung next.)"""
+"""A reach's walk starts 0.8 s after the first hand target (s, times sqrt(scale)), left foot
+first: the phase of a walk of 0.8 s steps from t = 0 with the right foot first (the paper's
+robot "starts walking since the target is initially unreachable"; it gives no start time or
+first foot), so that the left foot is 0.1 s into its swing at Test 2's first push (2.5 s, not
+scaled; at scale 1 only), our reading of the paper's "forcing the robot to make a step to the
+left" and "adjusting footsteps in mid-air". (Until 2026-11-27: after 1.0 s, right foot first,
+so that the push came as the left foot landed and the right one, which cannot step left,
+swung next.)"""
 STEP_TRIGGER_M = 0.03  # [m] capture point off the feet's middle that makes it step (ours)
 HOLD_PERIODS_MAX = 5  # a hierarchy no solver solves: the last answer held this long (ours)
 STOP_MARGIN_M, STOP_SPEED = 0.02, 0.1  # a push-started walk stops when capture point is inside
