@@ -279,7 +279,9 @@ def test_killing_the_sweep_ends_its_workers_and_resume_completes_it(
     out = tmp_path / "out"
     command = [sys.executable, "-m", "bench.cli", "sweep", "--spec", str(spec_file)]
     command += ["--out", str(out), "--workers", "2", "--no-progress"]
-    process = subprocess.Popen(command, cwd=ROOT, stderr=subprocess.PIPE, text=True)
+    # a SIGKILLed sweep cannot remove its workers' folder (`LocalExecutor`): it goes in tmp_path
+    env = {**os.environ, "TMPDIR": str(tmp_path)}
+    process = subprocess.Popen(command, cwd=ROOT, stderr=subprocess.PIPE, text=True, env=env)
     deadline = time.monotonic() + 120
     workers: set[int] = set()
     while time.monotonic() < deadline and process.poll() is None:
@@ -450,7 +452,8 @@ def test_workers_hung_in_c_die_with_their_killed_parent(tmp_path: Path):
     parent is SIGKILLed: only the kernel's parent-death signal can end them, and it does."""
     budget = {"timeout_base_s": 600.0, "timeout_per_sim_s": 1.0}  # no timeout in this test
     code = _HUNG_DRIVER.format(root=str(ROOT), budget=budget, out=str(tmp_path / "out"))
-    driver = subprocess.Popen([sys.executable, "-c", code], cwd=ROOT)
+    env = {**os.environ, "TMPDIR": str(tmp_path)}  # the killed driver's workers' folder
+    driver = subprocess.Popen([sys.executable, "-c", code], cwd=ROOT, env=env)
     deadline = time.monotonic() + 120
     workers: set[int] = set()
     while time.monotonic() < deadline and driver.poll() is None:
