@@ -24,8 +24,14 @@ Backends (`SOLVERS`):
     one QP: those levels' rows hard, the last level's squared violation the cost
     (`_solve_single_qp`, a slack per inequality row of the last level, the tie-break weighted by
     `SINGLE_QP_TIE_BREAK`, against the last level's rows scaled to unit largest norm), then the
-    exact polish below started from DAQP's active set. Only when DAQP finds those rows
-    infeasible, or leaves one violated, is the hierarchical mode run. Same answer (x within
+    exact polish below started from DAQP's active set. When DAQP finds those rows
+    infeasible, or leaves one violated, the levels above the last are solved first, the same way
+    (levels 1 to L-1, L-1's violation the cost, recursively), polished, and their violated rows
+    held at the values they take there (a level's optimal violation is unique, so these rows
+    define the set of the upper levels' minimisers) for one more QP of all levels
+    (`_solve_qp_sequence`, since 2026-11-28: the controller after a push, 2.8 ms against 13.8
+    ms for the hierarchical mode at the benchmark's contact switch, the same x after the
+    polish). Only when one of those QPs fails is the hierarchical mode run. Same answer (x within
     1e-7 of the hierarchical mode and 1e-6 of the cascade on the tests' problems, with violated
     last-level inequalities, a last level of norm 1e-4 and H = 1e8 I among them; level norms
     within 7e-7 and x within 2e-5 of the hierarchical mode on 660 problems recorded from `reach`
@@ -34,7 +40,8 @@ Backends (`SOLVERS`):
     the hierarchical mode softens every row of every level, the QP only the last level's, and
     its hot start then works as the paper's does ("most of the time solver does only one
     iteration", Sec. VII-B: 97 % of periods in a pushed standing episode; the hierarchical mode
-    hot-started needed 19-60 iterations a period). `HierarchySolution.single_qp` tells the path.
+    hot-started needed 19-60 iterations a period). `HierarchySolution.qps` tells the path (1:
+    `single_qp`; 0: the hierarchical mode).
 
   - Weighting. DAQP scales every row (of A R^-1, H = R^T R) to unit norm before softening, so it
     minimises the row-normalised violation sum_j (r_j / ||a_j||_H^-1)^2, not ||r||^2: an
@@ -182,6 +189,7 @@ class HierarchySolution:
     solve_time_s: float
     polished: bool = False  # DAQP: the exact active-set polish was kept
     single_qp: bool = False  # DAQP: solved as one QP (`_solve_single_qp`), not level by level
+    qps: int = 0  # DAQP: QPs solved (`_solve_qp_sequence`; 1: `single_qp`), 0 level by level
 
 
 def solve_hierarchy(
@@ -215,10 +223,10 @@ def solve_hierarchy(
         except np.linalg.LinAlgError:
             raise ValueError("regularization must be positive definite") from None
     if solver == "daqp":
-        x, iterations, active, exitflag, polished, single = _solve_daqp(levels, n, chol, warm_start)
+        x, iterations, active, exitflag, polished, qps = _solve_daqp(levels, n, chol, warm_start)
     else:
         x, iterations = _solve_cascade(levels, n, chol)
-        active, exitflag, polished, single = None, 1, False, False
+        active, exitflag, polished, qps = None, 1, False, 0
     violation = [level.violation(x) for level in levels]
     return HierarchySolution(
         x=x,
@@ -229,7 +237,8 @@ def solve_hierarchy(
         exitflag=exitflag,
         solve_time_s=time.perf_counter() - start,
         polished=polished,
-        single_qp=single,
+        single_qp=qps == 1,
+        qps=qps,
     )
 
 
@@ -270,7 +279,7 @@ def _pinned_rows(levels: list[Level]) -> np.ndarray:
 
 def _solve_daqp(
     levels: list[Level], n: int, chol: np.ndarray | None, warm_start: np.ndarray | None
-) -> tuple[np.ndarray, int, np.ndarray, int, bool, bool]:
+) -> tuple[np.ndarray, int, np.ndarray, int, bool, int]:
     import daqp
 
     a = np.vstack([level.a for level in levels])
@@ -283,14 +292,16 @@ def _solve_daqp(
         if flags.shape != (m,) or not np.issubdtype(flags.dtype, np.integer):
             raise ValueError(f"warm_start must be the integer `active` flags of {m} rows")
         sense |= (flags & 3).astype(np.intc)
-    single = _solve_single_qp(levels, n, chol, lower, upper, sense)
-    if single is not None:
-        x, iterations, active = single
-        polished = _polish(levels, n, chol, x, start=active)
+    by_qps = _solve_qp_sequence(levels, n, chol, lower, upper, sense)
+    if by_qps is not None:
+        x, iterations, active, qps = by_qps
+        # after QPs with rows held, the rows active at x (the upper levels' violated rows among
+        # them), as level by level; after the one QP, its own active set
+        polished = _polish(levels, n, chol, x, start=active if qps == 1 else None)
         x = x if polished is None else polished
-        # DAQP's convention: 2 when a row is left violated (here only the last level's can be)
-        met = np.all(np.abs(levels[-1].violation(x)) <= _ACTIVE_TOL)
-        return x, iterations, active, 1 if met else 2, polished is not None, True
+        # DAQP's convention: 2 when a row is left violated
+        met = all(np.all(np.abs(level.violation(x)) <= _ACTIVE_TOL) for level in levels)
+        return x, iterations, active, 1 if met else 2, polished is not None, qps
     keep = ~_pinned_rows(levels)  # DAQP mishandles them (see the module docstring)
     active = np.zeros(m, dtype=np.intc)
     if not keep.any():
@@ -332,7 +343,75 @@ def _solve_daqp(
     polished = _polish(levels, n, chol, x)
     if polished is not None:
         x = polished
-    return x, iterations, active, int(exitflag), polished is not None, False
+    return x, iterations, active, int(exitflag), polished is not None, 0
+
+
+def _solve_qp_sequence(
+    levels: list[Level],
+    n: int,
+    chol: np.ndarray | None,
+    lower: np.ndarray,
+    upper: np.ndarray,
+    sense: np.ndarray,
+) -> tuple[np.ndarray, int, np.ndarray, int] | None:
+    """The lexicographic optimum as a sequence of QPs: the one QP of `_solve_single_qp` when
+    the levels above the last can be met; otherwise the levels above are solved first the same
+    way (recursively: levels 1..L-1 with L-1's squared violation the cost, ...), polished to the
+    exact optimum of their active set, and each of their rows violated there (beyond
+    `_SINGLE_QP_TOL` (1 + |A x|)) is held at the value it has, as an equality, for the one QP of
+    all levels. Exact, because a level's optimal violation vector r* is unique: among the
+    minimisers of the levels above, every violated row takes the same value, and a point of the
+    upper levels' feasible rows with those values has their least violation; so the held rows
+    and the met rows' bounds describe the upper levels' minimisers, and the last QP minimises
+    the last level over them. A violated row pinned by the equalities above it (`_pinned_rows`:
+    its value is fixed by them already) is left free instead, as held twice it would make the
+    equalities degenerate. At the benchmark's contact switch (level 2, eq. 14, not met): two
+    QPs, 2.8 ms, against 13.8 ms for DAQP's hierarchical mode (`make benchmark`, 2026-11-28),
+    which softens every row of every level and needs a tiny rho_soft for the controller's
+    objectives, whose row norms span 1e4. None when a QP fails (DAQP's infeasibility or a
+    violated hard row): the hierarchical mode decides. Returns (x, iterations of all QPs,
+    active flags of the last QP, number of QPs)."""
+    single = _solve_single_qp(levels, n, chol, lower, upper, sense)
+    if single is not None:
+        return (*single, 1)
+    if len(levels) < 3:
+        return None
+    m_last = levels[-1].a.shape[0]
+    m_upper = lower.shape[0] - m_last
+    above = _solve_qp_sequence(
+        levels[:-1], n, chol, lower[:m_upper], upper[:m_upper], sense[:m_upper]
+    )
+    if above is None:
+        return None
+    x_above, iterations_above, active_above, qps = above
+    # the exact optimum of its active set: a DAQP answer's rows are off by up to 1e-6
+    polished = _polish(levels[:-1], n, chol, x_above, start=active_above if qps == 1 else None)
+    x_above = x_above if polished is None else polished
+    ax = np.concatenate([level.a @ x_above for level in levels[:-1]])
+    # violated beyond round-off (a met row's value may lie 1e-12 past its bound)
+    tol = _SINGLE_QP_TOL * (1.0 + np.abs(ax))
+    violated = (ax < lower[:m_upper] - tol) | (ax > upper[:m_upper] + tol)
+    pinned = _pinned_rows(levels)[:m_upper]
+    fixed_lower, fixed_upper, fixed_sense = lower.copy(), upper.copy(), sense.copy()
+    # a violated row takes its value there (unique at the optimum), as an equality; a pinned
+    # one (fixed by the equalities above it) is left free, not repeated
+    hold = violated & ~pinned
+    fixed_lower[:m_upper][hold] = fixed_upper[:m_upper][hold] = ax[hold]
+    fixed_sense[:m_upper][hold] = _DAQP_EQUALITY
+    free = violated & pinned
+    fixed_lower[:m_upper][free], fixed_upper[:m_upper][free] = -np.inf, np.inf
+    fixed_sense[:m_upper][free] = 0
+    held = []
+    start = 0
+    for level in levels:
+        end = start + level.a.shape[0]
+        held.append(Level(level.a, fixed_lower[start:end], fixed_upper[start:end], level.name))
+        start = end
+    last = _solve_single_qp(held, n, chol, fixed_lower, fixed_upper, fixed_sense)
+    if last is None:
+        return None
+    x, iterations, active = last
+    return x, iterations_above + iterations, active, qps + 1
 
 
 def _solve_single_qp(

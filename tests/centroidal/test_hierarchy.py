@@ -87,7 +87,9 @@ def test_daqp_equals_cascade_on_controller_size(seed, feasible):
     cascade = solve_hierarchy(levels, N, solver="cascade")
     assert daqp.exitflag in (1, 2)
     assert daqp.polished  # the exact active-set polish was kept
-    assert daqp.single_qp == feasible  # one QP when levels 1-2 can be met, else level by level
+    # one QP when levels 1-2 can be met, else two: levels 1-2, then all with level 2 held
+    assert daqp.qps == (1 if feasible else 2)
+    assert daqp.single_qp == feasible
     np.testing.assert_allclose(daqp.violation_norm, cascade.violation_norm, rtol=0, atol=1e-6)
     np.testing.assert_allclose(daqp.x, cascade.x, rtol=0, atol=1e-6)
     for solution in (daqp, cascade):
@@ -208,6 +210,34 @@ def test_one_qp_equals_the_level_by_level_solve(seed, last_equalities_only, monk
     np.testing.assert_allclose(one.x, by_level.x, rtol=0, atol=1e-7)
     if last_equalities_only:
         assert one.violation_norm[2] > 0.1
+
+
+@pytest.mark.parametrize("seed", [14, 15, 16])
+def test_qps_in_sequence_equal_the_level_by_level_solve(seed, monkeypatch):
+    """Level 2 in conflict with level 1 (one of its rows pinned by level 1's equalities, so it
+    cannot be held as an equality again): levels 1-2 as one QP, then all three with level 2's
+    violated rows held at their values, give DAQP's hierarchical mode's x, and the cascade's;
+    with a fourth level below (a range per variable) level 3, not met, is held in turn: the
+    sequence recurses (3 QPs)."""
+    levels = controller_levels(seed, feasible=False)
+    rng = np.random.default_rng(3000 + seed)  # not controller_levels' draws
+    low = rng.normal(size=N)
+    fourth = Level(np.eye(N), low, low + 1.0)  # x_i in a range
+    for stack, qps in ((levels, 2), ([*levels[:2], levels[2], fourth], 3)):
+        sequence = solve_hierarchy(stack, N)
+        assert sequence.qps == qps
+        assert sequence.polished
+        assert min(sequence.violation_norm[1:3]) > 0.1  # levels 2 and 3 really are not met
+        with monkeypatch.context() as patch:
+            patch.setattr(hierarchy, "_solve_qp_sequence", lambda *args: None)
+            by_level = solve_hierarchy(stack, N)
+        assert by_level.qps == 0
+        cascade = solve_hierarchy(stack, N, solver="cascade")
+        for other in (by_level, cascade):
+            np.testing.assert_allclose(
+                sequence.violation_norm, other.violation_norm, rtol=0, atol=1e-6
+            )
+            np.testing.assert_allclose(sequence.x, other.x, rtol=0, atol=1e-6)
 
 
 @pytest.mark.parametrize("seed", [10, 11])
