@@ -29,7 +29,7 @@ Backends (`SOLVERS`):
     (levels 1 to L-1, L-1's violation the cost, recursively), polished, and their violated rows
     held at the values they take there (a level's optimal violation is unique, so these rows
     define the set of the upper levels' minimisers) for one more QP of all levels
-    (`_solve_qp_sequence`, since 2026-11-28: the controller after a push, 2.8 ms against 13.8
+    (`_solve_qp_sequence`, since 2026-11-28: the controller after a push, 2.7 ms against 14.2
     ms for the hierarchical mode at the benchmark's contact switch, the same x after the
     polish). Only when one of those QPs fails is the hierarchical mode run. Same answer (x within
     1e-7 of the hierarchical mode and 1e-6 of the cascade on the tests' problems, with violated
@@ -81,7 +81,8 @@ Backends (`SOLVERS`):
   as `warm_start` (same rows) activates them at the start of their level: 3-49 % (median 24 %)
   fewer iterations on 160 controller-size problems, repeated or with the bounds moved by 1e-3,
   never more. After the one QP, `active` holds the QP's own active rows (its nonzero duals) in
-  the same flags, and a warm start activates them in either path.
+  the same flags, and a warm start activates them in either path; after a sequence of QPs, the
+  last QP's, with each held row flagged at the bound it violates.
 
 * ``"cascade"``, the reference: one QP per level through qpsolvers, variables (y, v) with
   x = x_p + Z y: min 1/2 ||v||^2 s.t. lower_i <= A_i x - v <= upper_i and every level j above
@@ -188,8 +189,8 @@ class HierarchySolution:
     exitflag: int  # DAQP's (1 optimal, 2 with rows of some level violated); cascade: 1
     solve_time_s: float
     polished: bool = False  # DAQP: the exact active-set polish was kept
-    single_qp: bool = False  # DAQP: solved as one QP (`_solve_single_qp`), not level by level
-    qps: int = 0  # DAQP: QPs solved (`_solve_qp_sequence`; 1: `single_qp`), 0 level by level
+    single_qp: bool = False  # DAQP: solved as one QP (`_solve_single_qp`), qps == 1
+    qps: int = 0  # DAQP: QPs solved (`_solve_qp_sequence`), 0: DAQP's hierarchical mode
 
 
 def solve_hierarchy(
@@ -360,17 +361,19 @@ def _solve_qp_sequence(
     exact optimum of their active set, and each of their rows violated there (beyond
     `_SINGLE_QP_TOL` (1 + |A x|)) is held at the value it has, as an equality, for the one QP of
     all levels. Exact, because a level's optimal violation vector r* is unique: among the
-    minimisers of the levels above, every violated row takes the same value, and a point of the
-    upper levels' feasible rows with those values has their least violation; so the held rows
-    and the met rows' bounds describe the upper levels' minimisers, and the last QP minimises
-    the last level over them. A violated row pinned by the equalities above it (`_pinned_rows`:
-    its value is fixed by them already) is left free instead, as held twice it would make the
-    equalities degenerate. At the benchmark's contact switch (level 2, eq. 14, not met): two
-    QPs, 2.8 ms, against 13.8 ms for DAQP's hierarchical mode (`make benchmark`, 2026-11-28),
-    which softens every row of every level and needs a tiny rho_soft for the controller's
-    objectives, whose row norms span 1e4. None when a QP fails (DAQP's infeasibility or a
-    violated hard row): the hierarchical mode decides. Returns (x, iterations of all QPs,
-    active flags of the last QP, number of QPs)."""
+    minimisers of the levels above every violated row takes the same value, and a point of the
+    upper levels' met rows' bounds with those values has their least violations; so the held
+    rows and the met rows' bounds describe the upper levels' minimisers (the cascade's set), and
+    the last QP minimises the last level over them. A row (nearly) in the span of equalities
+    above is held too (a review found that freeing it lets a row pinned only to 1e-7 drift; DAQP
+    takes the dependent equalities). At the benchmark's contact switch (level 2, eq. 14, not
+    met): two QPs, 2.7 ms, against 14.2 ms for DAQP's hierarchical mode (`make benchmark`,
+    2026-11-28), which softens every row of every level and needs a tiny rho_soft for the
+    controller's objectives, whose row norms span 1e4. None, and the hierarchical mode
+    decides, when a QP fails (DAQP's infeasibility or a violated hard row) or when the upper
+    levels' answer cannot be polished (its values would be held off the optimum). Returns (x,
+    iterations of the QPs that succeeded, active flags of the last QP with each held row
+    flagged at the bound it violates, number of QPs)."""
     single = _solve_single_qp(levels, n, chol, lower, upper, sense)
     if single is not None:
         return (*single, 1)
@@ -384,23 +387,19 @@ def _solve_qp_sequence(
     if above is None:
         return None
     x_above, iterations_above, active_above, qps = above
-    # the exact optimum of its active set: a DAQP answer's rows are off by up to 1e-6
-    polished = _polish(levels[:-1], n, chol, x_above, start=active_above if qps == 1 else None)
-    x_above = x_above if polished is None else polished
+    # the exact optimum of its active set (a DAQP answer's rows are off by up to 1e-6, and its
+    # tie-break moves x): the values held below must be the optimum's, so without it, None
+    x_above = _polish(levels[:-1], n, chol, x_above, start=active_above if qps == 1 else None)
+    if x_above is None:
+        return None
     ax = np.concatenate([level.a @ x_above for level in levels[:-1]])
     # violated beyond round-off (a met row's value may lie 1e-12 past its bound)
     tol = _SINGLE_QP_TOL * (1.0 + np.abs(ax))
-    violated = (ax < lower[:m_upper] - tol) | (ax > upper[:m_upper] + tol)
-    pinned = _pinned_rows(levels)[:m_upper]
+    below, beyond = ax < lower[:m_upper] - tol, ax > upper[:m_upper] + tol
+    hold = below | beyond  # each takes its value there (unique at the optimum), as an equality
     fixed_lower, fixed_upper, fixed_sense = lower.copy(), upper.copy(), sense.copy()
-    # a violated row takes its value there (unique at the optimum), as an equality; a pinned
-    # one (fixed by the equalities above it) is left free, not repeated
-    hold = violated & ~pinned
     fixed_lower[:m_upper][hold] = fixed_upper[:m_upper][hold] = ax[hold]
     fixed_sense[:m_upper][hold] = _DAQP_EQUALITY
-    free = violated & pinned
-    fixed_lower[:m_upper][free], fixed_upper[:m_upper][free] = -np.inf, np.inf
-    fixed_sense[:m_upper][free] = 0
     held = []
     start = 0
     for level in levels:
@@ -411,6 +410,10 @@ def _solve_qp_sequence(
     if last is None:
         return None
     x, iterations, active = last
+    # a held row's flag: the side of the bound it violates (not its multiplier's sign, which
+    # may point at an infinite bound), for the next period's warm start
+    active[:m_upper][below] = 3
+    active[:m_upper][beyond] = 1
     return x, iterations_above + iterations, active, qps + 1
 
 

@@ -214,8 +214,8 @@ def test_one_qp_equals_the_level_by_level_solve(seed, last_equalities_only, monk
 
 @pytest.mark.parametrize("seed", [14, 15, 16])
 def test_qps_in_sequence_equal_the_level_by_level_solve(seed, monkeypatch):
-    """Level 2 in conflict with level 1 (one of its rows pinned by level 1's equalities, so it
-    cannot be held as an equality again): levels 1-2 as one QP, then all three with level 2's
+    """Level 2 in conflict with level 1 (one of its rows pinned by level 1's equalities, held
+    as an equality again all the same): levels 1-2 as one QP, then all three with level 2's
     violated rows held at their values, give DAQP's hierarchical mode's x, and the cascade's;
     with a fourth level below (a range per variable) level 3, not met, is held in turn: the
     sequence recurses (3 QPs)."""
@@ -238,6 +238,48 @@ def test_qps_in_sequence_equal_the_level_by_level_solve(seed, monkeypatch):
                 sequence.violation_norm, other.violation_norm, rtol=0, atol=1e-6
             )
             np.testing.assert_allclose(sequence.x, other.x, rtol=0, atol=1e-6)
+
+
+def _level(a, lower, upper):
+    return Level(
+        np.array(a, dtype=float), np.array(lower, dtype=float), np.array(upper, dtype=float)
+    )
+
+
+@pytest.mark.parametrize(
+    "levels",
+    [
+        # x0 = 0 pins level 2's row but for 1e-7 x2: level 2 chooses x2 = +10 (0.999999 left),
+        # level 3's x2 = -10 must not undo that (a version that freed pinned rows gave -10)
+        [
+            _level([[1, 0, 0], [0, 0, 1]], [0, -10], [0, 10]),
+            _level([[1, 0, 1e-7]], [1], [1]),
+            _level([[0, 0, 1], [0, 1, 0]], [-10, 1], [-10, 1]),
+        ],
+        # x0 <= 0 against x0 >= 1, and 1e-4 x1 = 5e-4 with x1 <= 5 - 1e-6: level 2 wants x1 at
+        # its bound; level 3's x1 = 0 must not pull it back (a version that held the unpolished
+        # answer of levels 1-2 gave x1 = 4.5455)
+        [
+            _level([[1, 0], [0, 1]], [-np.inf, -np.inf], [0, 5 - 1e-6]),
+            _level([[1, 0], [0, 1e-4]], [1, 5e-4], [np.inf, 5e-4]),
+            _level([[0, 1]], [0], [0]),
+        ],
+    ],
+    ids=["nearly_pinned_row", "answer_not_polished"],
+)
+def test_qps_in_sequence_on_a_review_s_edge_cases(levels, monkeypatch):
+    """Two hierarchies a review built against the sequence of QPs: the backend's answer is the
+    hierarchical mode's (whichever path it takes) and, within the cascade's own accuracy, the
+    cascade's."""
+    n = levels[0].a.shape[1]
+    answer = solve_hierarchy(levels, n)
+    with monkeypatch.context() as patch:
+        patch.setattr(hierarchy, "_solve_qp_sequence", lambda *args: None)
+        by_level = solve_hierarchy(levels, n)
+    cascade = solve_hierarchy(levels, n, solver="cascade")
+    np.testing.assert_allclose(answer.x, by_level.x, rtol=0, atol=1e-7)
+    np.testing.assert_allclose(answer.violation_norm, by_level.violation_norm, rtol=0, atol=1e-9)
+    np.testing.assert_allclose(answer.x, cascade.x, rtol=0, atol=1e-4)
 
 
 @pytest.mark.parametrize("seed", [10, 11])
