@@ -31,7 +31,8 @@ Backends (`SOLVERS`):
     define the set of the upper levels' minimisers) for one more QP of all levels
     (`_solve_qp_sequence`, since 2026-11-28: the controller after a push, 2.7 ms against 14.2
     ms for the hierarchical mode at the benchmark's contact switch, the same x after the
-    polish). Only when one of those QPs fails is the hierarchical mode run. Same answer (x within
+    polish). Only when one of those QPs fails, or the upper levels' answer cannot be polished,
+    is the hierarchical mode run. Same answer (x within
     1e-7 of the hierarchical mode and 1e-6 of the cascade on the tests' problems, with violated
     last-level inequalities, a last level of norm 1e-4 and H = 1e8 I among them; level norms
     within 7e-7 and x within 2e-5 of the hierarchical mode on 660 problems recorded from `reach`
