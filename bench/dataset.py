@@ -35,6 +35,7 @@ import pyarrow.parquet as pq
 
 from bench.limits import CONTROL_PERIOD_S
 from bench.metrics import feedback_magnitude, walking_quality
+from reports.outcomes import ENDED, is_controller_failure
 from robots.perturbation import PERTURBATION_FIELDS
 
 LATENCY_STAGES = (
@@ -218,9 +219,14 @@ def summary_row(
     if trace is not None and len(trace):
         row.update(walking_quality(trace))
         row.update(feedback_magnitude(trace))
-    if labels.get("push_phase") is not None and row["status"] in JUDGED_STATUSES:
+    if labels.get("push_phase") is not None and is_controller_failure(
+        row["status"], row.get("error_stage")
+    ):
+        row["survived"] = False  # its controller failed (`reports.outcomes`)
+    elif labels.get("push_phase") is not None and row["status"] in JUDGED_STATUSES:
         # survival: no fall before the end, `survival_time` after the push; an episode that
-        # ended in an error or a timeout says nothing about the controller (survived None)
+        # ended in any other error or a timeout says nothing about the controller (survived
+        # None: `reports.outcomes`)
         # the runner runs round(requested / dt) control periods: a complete episode may end
         # up to half a period short of a requested duration that is no whole number of them
         # (the walking pushes' 6.2325 s ran 6.232 s, and were counted as falls before this)
@@ -232,7 +238,7 @@ def summary_row(
     return row
 
 
-JUDGED_STATUSES = ("ok", "fell")  # the statuses that say whether a push was survived
+JUDGED_STATUSES = ENDED  # the statuses of an episode run to its end (and `reports.outcomes`)
 RETRIED_STATUSES = ("error", "timeout")  # what `--resume --retry-errors` runs again
 
 

@@ -206,9 +206,12 @@ def sections(
                     "0.1 s from a direction drawn uniformly on the circle (the same directions "
                     f"for every controller); survived = no fall within {survival_time:g} s "
                     "after it. Levels are velocity changes dv = J / m, with the impulse J for "
-                    "this robot. Only episodes that ended ok or fell are judged; those that "
-                    "ended in an error or a timeout are counted under 'not judged' (rerun them "
-                    "with `centrobench sweep ... --resume --retry-errors`).",
+                    "this robot. Judged: the episodes that ended ok or fell, and those whose "
+                    "controller failed (an error raised by its estimator, planner, stabilizer "
+                    "or whole-body layer, such as a solver that gives up), which count as not "
+                    "survived; those that ended in another error (set-up, simulator, worker) "
+                    "or a timeout are counted under 'not judged' (rerun them with "
+                    "`centrobench sweep ... --resume --retry-errors`).",
                     table,
                 )
             )

@@ -15,6 +15,7 @@ import math
 
 import pandas as pd
 
+from reports.outcomes import failure_label, is_controller_failure
 from reports.paper_figures import MOTION_LABELS, PAPER_SEC_V_G, PAPER_TABLE_IV_US
 from reports.robustness import nominal
 from reports.tables import REACH_PASS_HAND_ERROR_M
@@ -41,13 +42,15 @@ BENCHMARK_COLUMNS = [*KEYS, "benchmark", "outcome", "quantity", "ours", "paper"]
 
 
 def outcome(row: pd.Series) -> str:
-    """How an episode ended, in words: completed, fell at t s, or its status (n/a, error,
-    timeout)."""
+    """How an episode ended, in words: completed, fell at t s, its controller's failure
+    ("planner failed at t s", `reports.outcomes`), or its status (n/a, error, timeout)."""
     if row["status"] == "ok":
         return "completed"
     if row["status"] == "fell":
         fall = row.get("fall_time")
         return "fell" if fall is None or pd.isna(fall) else f"fell at {float(fall):.1f} s"
+    if is_controller_failure(row["status"], row.get("error_stage")):
+        return failure_label(row.get("error_stage"), row.get("duration"))
     return str(row["status"])
 
 

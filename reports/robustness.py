@@ -15,6 +15,7 @@ import math
 import numpy as np
 import pandas as pd
 
+from reports.outcomes import judged
 from reports.statistics import (
     ROBUST_REPLICAS,
     fraction_cell,
@@ -25,7 +26,6 @@ from reports.statistics import (
 )
 
 KEYS = ["controller", "sim"]
-JUDGED = ("ok", "fell")
 EPISODE_KEYS = (
     "scenario",
     "speed",
@@ -104,7 +104,7 @@ def degradation_table(episodes: pd.DataFrame) -> pd.DataFrame:
     labels = perturbation_labels(episodes)
     if (labels == "nominal").all():
         return pd.DataFrame()
-    rows = episodes[episodes["status"].isin(JUDGED)].copy()
+    rows = episodes[judged(episodes)].copy()
     if "replica" in rows:
         rows = rows[rows["replica"].fillna(0) == 0]
     if "push_direction_name" in rows:
@@ -218,7 +218,7 @@ def robust_threshold_table(episodes: pd.DataFrame) -> pd.DataFrame:
         fraction=rows["push_swing_fraction"].fillna(0.5) if "push_swing_fraction" in rows else 0.5,
         push=episode_key(rows, without=("push_dv_mps",)),
         replica=rows["replica"].fillna(0).astype(int),
-        judged=rows["status"].isin(JUDGED),
+        judged=judged(rows),
         alive=rows["survived"].fillna(False).astype(bool),
     )
     result = []
@@ -261,7 +261,7 @@ def paired_comparisons(episodes: pd.DataFrame, phase: str) -> pd.DataFrame:
     did not, and the exact McNemar p-value (`reports.statistics.paired_table`), most
     significant first."""
     rows = protocol_pushes(episodes, phase)
-    rows = rows[rows["status"].isin(JUDGED)]
+    rows = rows[judged(rows)]
     if rows["controller"].nunique() < 2:
         return pd.DataFrame()
     outcomes = rows.assign(
@@ -278,7 +278,7 @@ def headline_survival(episodes: pd.DataFrame) -> pd.DataFrame:
     result = []
     for phase in ("standing", "walking"):
         rows = protocol_pushes(episodes, phase)
-        rows = rows[rows["status"].isin(JUDGED)]
+        rows = rows[judged(rows)]
         for controller, group in rows.groupby("controller", sort=True):
             row = {"controller": controller, "phase": phase}
             rates = {}
@@ -298,7 +298,7 @@ def direction_table(episodes: pd.DataFrame) -> pd.DataFrame:
     and replicas as k/n with its 95 % Wilson interval. Empty without support-relative
     pushes or several swing fractions."""
     rows = episodes[perturbation_labels(episodes) == "nominal"]  # every replica
-    rows = rows[(rows["push_phase"] == "walking") & rows["status"].isin(JUDGED)]
+    rows = rows[(rows["push_phase"] == "walking") & judged(rows)]
     if rows.empty or "push_direction_name" not in rows:
         return pd.DataFrame()
     rows = rows.assign(

@@ -16,6 +16,7 @@ from collections.abc import Mapping
 import numpy as np
 import pandas as pd
 
+from reports.outcomes import judged
 from reports.robustness import nominal, protocol_pushes
 from reports.statistics import fraction_cell, simulator_band, wilson_interval
 
@@ -77,11 +78,6 @@ def level_label(dv: float, impulse: float) -> str:
     return f"{dv:g} m/s ({impulse:.1f} N s)"
 
 
-# statuses that say whether a push was survived (bench.dataset.JUDGED_STATUSES: reports/
-# reads result files only and imports nothing of bench/)
-JUDGED = ("ok", "fell")
-
-
 PAPER_LOOP_US = {"direct_centroidal": 143.0}
 """The papers' own per-period times [µs] of their whole control loop, by controller name
 prefix: Ficht & Behnke Sec. 4, "a single passthrough of the whole control loop with computing
@@ -115,8 +111,9 @@ def paper_latency_table(episodes: pd.DataFrame) -> pd.DataFrame:
 def survival_table(episodes: pd.DataFrame, phase: str = "standing") -> pd.DataFrame:
     """Ficht & Behnke Table 2: rows controller x simulator, a column per level (dv, and the
     impulse in N s for this robot), cells "survived/pushes (95 % Wilson interval)" over the
-    episodes that ended "ok" or "fell" (`reports.statistics.fraction_cell`); the episodes
-    that ended in an error or a timeout say nothing about the controller and are counted in
+    judged episodes (`reports.outcomes`: ended "ok" or "fell", or the controller failed,
+    which counts as not survived; `reports.statistics.fraction_cell`); the episodes that
+    ended in another error or a timeout say nothing about the controller and are counted in
     their own column, "not judged"."""
     rows = pushes(episodes, phase)
     if rows.empty:
@@ -132,7 +129,7 @@ def survival_table(episodes: pd.DataFrame, phase: str = "standing") -> pd.DataFr
     cells.columns = [level_label(dv, impulses[dv]) for dv in cells.columns]
     cells = cells.fillna("0/0")
     not_judged = (
-        rows[~rows["status"].isin(JUDGED)]
+        rows[~judged(rows)]
         .groupby(KEYS)["status"]
         .agg(lambda s: ", ".join(f"{n} {k}" for k, n in sorted(s.value_counts().items())))
     )
@@ -141,15 +138,15 @@ def survival_table(episodes: pd.DataFrame, phase: str = "standing") -> pd.DataFr
 
 
 def survival_rates(episodes: pd.DataFrame, phase: str = "standing") -> pd.DataFrame:
-    """Long form of the survival table over the judged episodes ("ok" or "fell"):
+    """Long form of the survival table over the judged episodes (`reports.outcomes`):
     controller, sim, dv, impulse, survived, pushes, rate with its 95 % Wilson interval
     (rate_low, rate_high), and `not_judged` (error, timeout)."""
     rows = pushes(episodes, phase)
-    judged = rows["status"].isin(JUDGED)
+    counted = judged(rows)
     grouped = rows.assign(
-        survived=rows["survived"].fillna(False).astype(bool) & judged,
-        judged=judged,
-        not_judged=~judged,
+        survived=rows["survived"].fillna(False).astype(bool) & counted,
+        judged=counted,
+        not_judged=~counted,
     ).groupby([*KEYS, "push_dv_mps"], sort=True)
     table = grouped.agg(
         impulse_Ns=("push_impulse_Ns", "mean"),

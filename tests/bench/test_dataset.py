@@ -47,3 +47,16 @@ def test_every_scalar_summary_field_reaches_its_typed_column():
         assert table.column(key)[0].as_py() == value, key
     assert table.schema.field("hand_error_final_m").type == pa.float64()
     assert 0.5 < table.column("hand_error_final_m")[0].as_py() < 0.52
+
+
+@pytest.mark.parametrize(
+    ("stage", "survived"),
+    [("planner", False), ("estimator", False), ("sim", None), ("setup", None)],
+)
+def test_a_push_whose_controller_failed_is_not_survived(stage, survived):
+    """`reports.outcomes`: an error raised by the controller's own stages ends the push as
+    not survived; an error of the set-up or the simulator says nothing (None)."""
+    labels = {"push_phase": "standing", "episode_id": "x", "controller": "c"}
+    summary = {"status": "error", "error_stage": stage, "duration": 3.9}
+    row = summary_row(labels, summary, None, 5.0, 1.0)
+    assert row["survived"] is survived

@@ -240,3 +240,20 @@ def test_the_report_of_a_main_job_opens_with_every_headline_table(tmp_path: Path
     # 5: the push survival in both simulators with its band and MuJoCo minus PyBullet
     assert ["a+x", "standing push survival", "%", "75", "75", "75 to 75", "0"] in agreement
     assert ["b+y", "standing push survival", "%", "75", "25", "25 to 75", "50"] in agreement
+
+
+@pytest.mark.parametrize(
+    ("status", "stage", "expected"),
+    [
+        ("error", "planner", "planner failed at 3.9 s"),
+        ("error", "whole_body", "whole-body failed at 3.9 s"),
+        ("error", "sim", "error"),
+        ("timeout", "planner", "timeout"),
+    ],
+)
+def test_an_episode_whose_controller_failed_says_which_stage(status, stage, expected):
+    """`reports.outcomes`: an error raised by the controller's own stages is the controller's
+    failure, named by its stage and when; any other error or a timeout keeps its status."""
+    row = pd.Series(_row(controller="c", sim="mujoco", scenario="reach_push", status=status))
+    row["error_stage"], row["duration"] = stage, 3.94
+    assert headlines.outcome(row) == expected

@@ -130,7 +130,10 @@ def test_survival_table_counts_the_fixture(results):
         assert row["not judged"] == ""
 
 
-def _push_rows(statuses: list[str], survived: list[bool | None]) -> pd.DataFrame:
+def _push_rows(
+    statuses: list[str], survived: list[bool | None], stages: list[str | None] | None = None
+) -> pd.DataFrame:
+    stages = stages or [None] * len(statuses)
     return pd.DataFrame(
         [
             _row(
@@ -143,9 +146,10 @@ def _push_rows(statuses: list[str], survived: list[bool | None]) -> pd.DataFrame
                 push_index=k,
                 push_impulse_Ns=MASS * 0.2,
                 status=status,
+                error_stage=stage,
                 survived=alive,
             )
-            for k, (status, alive) in enumerate(zip(statuses, survived, strict=True))
+            for k, (status, alive, stage) in enumerate(zip(statuses, survived, stages, strict=True))
         ]
     )
 
@@ -163,6 +167,26 @@ def test_errors_and_timeouts_are_not_counted_as_failed_pushes():
     rates = tables.survival_rates(rows, "standing")
     assert rates.loc[0, "rate"] == pytest.approx(0.75)
     assert (rates.loc[0, "rate_low"], rates.loc[0, "rate_high"]) == wilson_interval(3, 4)
+    assert rates.loc[0, "not_judged"] == 3
+
+
+def test_a_controller_that_fails_did_not_survive_its_push():
+    """An error raised by the controller's own stages (a planner whose solver gives up on a
+    falling robot) is judged, as not survived; one of the set-up or the simulator, and a
+    timeout, are not judged. Rows of result files written before (survived None) count the
+    same."""
+    rows = _push_rows(
+        ["ok", "fell", "error", "error", "error", "error", "timeout"],
+        [True, False, None, False, None, None, None],
+        [None, None, "planner", "whole_body", "setup", "sim", "planner"],
+    )
+    table = tables.survival_table(rows, "standing")
+    # 1 survived of 4 judged: Wilson centre (0.25 + 0.4802) / 1.9604 = 0.3725, half-width
+    # 1.96 sqrt(0.046875 + 0.060023) / 1.9604 = 0.3269: 0.046-0.699
+    assert table.loc[0, "0.2 m/s (10.0 N s)"] == "1/4 (5-70 %)"
+    assert table.loc[0, "not judged"] == "2 error, 1 timeout"
+    rates = tables.survival_rates(rows, "standing")
+    assert (rates.loc[0, "survived"], rates.loc[0, "pushes"]) == (1, 4)
     assert rates.loc[0, "not_judged"] == 3
 
 

@@ -1,0 +1,45 @@
+"""Which result rows say whether a controller came through its episode ("judged"), and how.
+
+Judged: an episode that ended "ok" or "fell", and one whose controller failed: an exception
+raised by the controller's own stages (its estimator, planner, stabilizer or whole-body layer;
+status "error" with that `error_stage`), such as a solver that gives up on a robot it can no
+longer hold. A controller failure counts as not survived: the controller did not bring the
+robot through. Not judged: an error in the set-up, in the simulator or in a worker, and a
+timeout (a wall-clock budget, which depends on the machine); they say nothing about the
+controller and are shown as "not judged" (and rerun by `sweep --resume --retry-errors`).
+
+One definition for the result rows (`bench.dataset`) and every report table.
+"""
+
+from __future__ import annotations
+
+import pandas as pd
+
+ENDED = ("ok", "fell")  # statuses that end an episode the controller ran to its end
+CONTROLLER_STAGES = ("estimator", "planner", "stabilizer", "whole_body")
+"""The runner's stages (`error_stage`) that belong to the controller."""
+
+
+def is_controller_failure(status: object, error_stage: object) -> bool:
+    """One row: status "error" raised in one of `CONTROLLER_STAGES`."""
+    return status == "error" and error_stage in CONTROLLER_STAGES
+
+
+def controller_failed(rows: pd.DataFrame) -> pd.Series:
+    """Per row: the controller failed (see the module)."""
+    stage = rows["error_stage"] if "error_stage" in rows else pd.Series(None, index=rows.index)
+    return (rows["status"] == "error") & stage.isin(CONTROLLER_STAGES)
+
+
+def judged(rows: pd.DataFrame) -> pd.Series:
+    """Per row: whether it says if the controller came through (see the module)."""
+    return rows["status"].isin(ENDED) | controller_failed(rows)
+
+
+def failure_label(error_stage: object, duration: object = None) -> str:
+    """A controller failure in words: "<stage> failed[ at t s]" (t: the simulated time
+    reached [s])."""
+    stage = str(error_stage).replace("_", "-")
+    if duration is None or pd.isna(duration):
+        return f"{stage} failed"
+    return f"{stage} failed at {float(duration):.1f} s"
