@@ -252,6 +252,22 @@ def test_a_level_whose_replicas_all_failed_to_run_leaves_the_push_without_a_thre
     assert table.iloc[0]["incomplete"] == 1
 
 
+def test_replicas_whose_controller_failed_count_as_not_surviving_the_level():
+    """`reports.outcomes`: at 0.35 m/s two of the five replicas end in the planner's failure
+    (judged, not survived: 3 of 5 < 4), so the robust threshold is 0.3 m/s, where before the
+    push was left without one (the level had 3 judged replicas, "incomplete")."""
+    rows = []
+    for level in (0.3, 0.35, 0.4):
+        for replica in range(5):
+            row = _push("a+x", "mujoco", level, 0, True, replica=replica)
+            if level == 0.35 and replica < 2:
+                row.update(status="error", error_stage="planner", survived=None)
+            rows.append(row)
+    table = robustness.robust_threshold_table(pd.DataFrame(rows))
+    assert (table.iloc[0]["pushes"], table.iloc[0]["incomplete"]) == (1, 0)
+    assert table.iloc[0]["min dv m/s"] == pytest.approx(0.3)
+
+
 def test_pushes_are_paired_by_seed_too():
     rows = []
     for seed, winner in ((0, "a+x"), (1, "b+y")):
