@@ -6,7 +6,8 @@ status "error" with that `error_stage`), such as a solver that gives up on a rob
 longer hold. A controller failure counts as not survived: the controller did not bring the
 robot through. Not judged: an error in the set-up, in the simulator or in a worker, and a
 timeout (a wall-clock budget, which depends on the machine); they say nothing about the
-controller and are shown as "not judged" (and rerun by `sweep --resume --retry-errors`).
+controller and are shown as "not judged". (`sweep --resume --retry-errors` reruns every
+"error" and "timeout" row, a controller's failure too, which is deterministic.)
 
 One definition for the result rows (`bench.dataset`) and every report table.
 """
