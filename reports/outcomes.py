@@ -22,8 +22,9 @@ CONTROLLER_STAGES = ("estimator", "planner", "stabilizer", "whole_body")
 
 
 def is_controller_failure(status: object, error_stage: object) -> bool:
-    """One row: status "error" raised in one of `CONTROLLER_STAGES`."""
-    return status == "error" and error_stage in CONTROLLER_STAGES
+    """One row: status "error" raised in one of `CONTROLLER_STAGES` (a missing stage, None
+    or pandas' NA, is none of them)."""
+    return status == "error" and isinstance(error_stage, str) and error_stage in CONTROLLER_STAGES
 
 
 def controller_failed(rows: pd.DataFrame) -> pd.Series:

@@ -248,6 +248,7 @@ def test_the_report_of_a_main_job_opens_with_every_headline_table(tmp_path: Path
         ("error", "planner", "planner failed at 3.9 s"),
         ("error", "whole_body", "whole-body failed at 3.9 s"),
         ("error", "sim", "error"),
+        ("error", pd.NA, "error"),  # a worker's error has no stage
         ("timeout", "planner", "timeout"),
     ],
 )
