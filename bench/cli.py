@@ -449,6 +449,12 @@ def build_parser() -> argparse.ArgumentParser:
         type=_names("--scenarios", "scenario names"),
         help="scenarios without a push",
     )
+    sweep.add_argument(
+        "--estimator",
+        default=None,
+        help="an estimator name for every controller, also those that come with their own "
+        f"(default: each controller's own, else {DEFAULT_ESTIMATOR}; see `centrobench list`)",
+    )
     dv = f"velocity changes in (0, {MAX_PUSH_DV:g}] m/s"
     sweep.add_argument(
         "--push-dv",
@@ -1046,6 +1052,7 @@ def _sweep_mapping(args: argparse.Namespace) -> dict:
             data[flag] = value
     if args.name is not None:
         data["name"] = args.name
+    data.update(_estimator_fields(args))
     for flag in ("timeout_base_s", "timeout_per_sim_s"):
         if getattr(args, flag) is not None:
             data[flag] = getattr(args, flag)
@@ -1084,6 +1091,14 @@ JOB_FLAGS = ("controllers", "sims", "seeds")
 """The grid flags that apply to a job of protocols: to each of its protocols."""
 
 
+def _estimator_fields(args: argparse.Namespace) -> dict:
+    """The spec fields of `sweep --estimator NAME`: NAME for every controller, also those
+    that come with their own estimator (as `run --estimator` does)."""
+    if args.estimator is None:
+        return {}
+    return {"estimator": args.estimator, "estimator_for_every_controller": True}
+
+
 def _job_mapping(args: argparse.Namespace, data: dict, error: type[Exception]) -> dict:
     """A job of protocols (`[[protocols]]`) from --spec: --controllers, --sims and --seeds
     replace those of every protocol, --name and the timeouts the job's; every other grid flag
@@ -1108,6 +1123,10 @@ def _job_mapping(args: argparse.Namespace, data: dict, error: type[Exception]) -
             for protocol in protocols:
                 if isinstance(protocol, dict):
                     protocol[flag] = value
+    for protocol in protocols:  # the job's estimator for each protocol, as the grid flags
+        if isinstance(protocol, dict):
+            protocol.update(_estimator_fields(args))
+    data.update(_estimator_fields(args))
     data["protocols"] = protocols
     if args.name is not None:
         data["name"] = args.name

@@ -12,7 +12,9 @@ A spec (every field but `controllers` and `sims` optional)::
     robots = ["centrobench_humanoid"]   # `robots.robot_registry` names, or ["all"]
     scales = [1.0]              # robot length scale (mass with its cube): scalable robots only
     frictions = [0.6]           # Coulomb coefficient of every contact
-    estimator = "kinematic_inertial"
+    estimator = "ground_truth"  # for every controller (default: each one's own, else
+                                # kinematic_inertial, which reaches a controller that has its
+    estimator_for_every_controller = false  # own only with this set to true)
     traces = ["walk"]           # scenarios whose per-period traces are stored
     timeout_base_s = 60.0       # wall-clock budget of an episode [s]: base + per_sim_s x its
     timeout_per_sim_s = 10.0    # simulated duration; past it the episode ends as "timeout"
@@ -156,6 +158,10 @@ class SweepSpec:
     scales: tuple[float, ...] = (1.0,)
     frictions: tuple[float, ...] = (0.6,)
     estimator: str = DEFAULT_ESTIMATOR
+    # True: `estimator` runs every controller, also one that comes with its own
+    # (`ControllerSpec.estimator`); False: such a controller keeps its own while `estimator`
+    # is the default. Only the default estimator needs it: any other is given to every one.
+    estimator_for_every_controller: bool = False
     traces: tuple[str, ...] = ("walk",)
     push: PushProtocol | None = None
     duration: float | None = None  # [s] override for the plain scenarios
@@ -195,6 +201,8 @@ class SweepSpec:
             data.pop("speeds")
         if self.robots == (DEFAULT_ROBOT,):  # as before robots existed
             data.pop("robots")
+        if not self.estimator_for_every_controller:  # as before the field existed
+            data.pop("estimator_for_every_controller")
         return data
 
     def identity(self) -> dict[str, Any]:
@@ -235,9 +243,14 @@ class SweepSpec:
         return self.timeout_base_s + self.timeout_per_sim_s * simulated_s
 
     def estimator_of(self, controller: ControllerSpec) -> str:
-        """The spec's estimator, unless it is the default and the controller comes with its
-        own (`ControllerSpec.estimator`)."""
-        if self.estimator == DEFAULT_ESTIMATOR and controller.estimator is not None:
+        """The spec's estimator, unless it is the default, not given to every controller
+        (`estimator_for_every_controller`), and the controller comes with its own
+        (`ControllerSpec.estimator`)."""
+        if (
+            self.estimator == DEFAULT_ESTIMATOR
+            and not self.estimator_for_every_controller
+            and controller.estimator is not None
+        ):
             return controller.estimator
         return self.estimator
 
@@ -343,6 +356,8 @@ _TOP_FIELDS = {
     "scales": f"a list of length scales in [{SCALE_RANGE[0]:g}, {SCALE_RANGE[1]:g}]",
     "frictions": f"a list of friction coefficients in (0, {FRICTION_MAX:g}]",
     "estimator": "an estimator name",
+    "estimator_for_every_controller": "true or false (true: `estimator` also runs the "
+    "controllers that come with their own)",
     "traces": "a list of scenario names",
     "duration": f"a number of seconds in [{CONTROL_PERIOD_S:g}, {MAX_EPISODE_SECONDS:g}]",
     "push": "a table (see bench.push_protocol)",
@@ -515,6 +530,12 @@ def _sweep_from_mapping(data: dict[str, Any], episodes_required: bool = True) ->
             f"sweep spec field 'estimator': unknown {estimator!r}; valid: "
             + ", ".join(ESTIMATORS.names())
         )
+    for_every = data.get("estimator_for_every_controller", False)
+    if not isinstance(for_every, bool):
+        raise SpecError(
+            "sweep spec field 'estimator_for_every_controller' must be "
+            f"{_TOP_FIELDS['estimator_for_every_controller']}, got {for_every!r}"
+        )
     name = data.get("name", "sweep")
     if not isinstance(name, str) or not valid_name(name):
         raise SpecError(f"sweep spec field 'name' must be {NAME_RULE}, got {name!r}")
@@ -573,6 +594,7 @@ def _sweep_from_mapping(data: dict[str, Any], episodes_required: bool = True) ->
         scales=scales,
         frictions=frictions,
         estimator=estimator,
+        estimator_for_every_controller=for_every,
         traces=traces,
         push=push,
         duration=duration,

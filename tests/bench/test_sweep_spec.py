@@ -67,6 +67,11 @@ VALID = {"controllers": ["hold+posture"], "sims": ["mujoco"], "scenarios": ["sta
         ({"push": {"dv": [0.2], "phases": ["running"]}}, "push.phases", "standing, walking"),
         ({"push": {"count": 20}}, "push.dv", "missing"),
         ({"estimator": "kalman"}, "estimator", "ground_truth"),
+        (
+            {"estimator_for_every_controller": "yes"},
+            "estimator_for_every_controller",
+            "true or false",
+        ),
         ({"colour": "red"}, "colour", "valid fields: name, controllers"),
         ({"robots": ["atlas"]}, "robots", "valid: centrobench_humanoid, jvrc1"),
         ({"robots": []}, "robots", "must not be empty"),
@@ -529,3 +534,69 @@ def test_the_main_job_is_every_controller_on_each_protocol_it_can_run():
             )
         assert len({tuple(sorted(v)) for v in directions.values()}) == 1  # the same for everyone
     assert len(episodes) == len({e.episode_id for e in episodes})
+
+
+def _estimators(spec) -> dict[str, set[str]]:
+    """controller -> the estimators its episodes run with."""
+    result: dict[str, set[str]] = {}
+    for episode in spec.episodes():
+        result.setdefault(episode.controller, set()).add(episode.run.estimator)
+    return result
+
+
+OWN_ESTIMATORS = {
+    "capturability_hierarchy": "ground_truth",
+    "direct_centroidal/no_inertia": "five_mass_kalman",
+}
+
+
+def test_a_controller_keeps_its_own_estimator_unless_the_spec_gives_one_to_every_controller():
+    """Sherikov et al.'s hierarchy comes with the paper's perfect state, Ficht & Behnke with
+    their own filter: a spec that names no estimator, or names the default one, leaves them
+    theirs; the default given to every controller reaches them too (before, it could not:
+    naming it was the same as naming none), and any other estimator always did."""
+    base = {**VALID, "controllers": ["hold+posture", *OWN_ESTIMATORS]}
+    default = spec_from_mapping(base)
+    assert _estimators(default) == {
+        "hold+posture": {"kinematic_inertial"},
+        **{name: {own} for name, own in OWN_ESTIMATORS.items()},
+    }
+    named = spec_from_mapping({**base, "estimator": "kinematic_inertial"})
+    assert _estimators(named) == _estimators(default)
+    assert named.digest() == default.digest()
+    every = spec_from_mapping(
+        {**base, "estimator": "kinematic_inertial", "estimator_for_every_controller": True}
+    )
+    assert set(map(frozenset, _estimators(every).values())) == {frozenset({"kinematic_inertial"})}
+    other = spec_from_mapping({**base, "estimator": "proprioceptive"})
+    assert set(map(frozenset, _estimators(other).values())) == {frozenset({"proprioceptive"})}
+    # a different grid, a different digest (a resume cannot mix the two); records written
+    # before the field existed keep theirs: it is left out while false
+    assert every.digest() != default.digest()
+    assert "estimator_for_every_controller" not in default.to_dict()
+    record = json.loads(json.dumps(every.to_dict()))  # as sweep.json keeps it (a replay)
+    assert spec_from_mapping(record).episodes() == every.episodes()
+
+
+def test_sweep_estimator_flag_reaches_every_controller_and_every_protocol_of_a_job(tmp_path):
+    """`centrobench sweep --estimator NAME` gives NAME to every controller, as `run
+    --estimator NAME` does, also in a job of protocols (the main job)."""
+    from bench.cli import _sweep_mapping, build_parser
+
+    parser = build_parser()
+    flags = ["sweep", "--controllers", "hold+posture,capturability_hierarchy", "--sims"]
+    args = parser.parse_args([*flags, "mujoco", "--scenarios", "stand"])
+    assert _estimators(spec_from_mapping(_sweep_mapping(args)))["capturability_hierarchy"] == {
+        "ground_truth"
+    }
+    args = parser.parse_args(
+        [*flags, "mujoco", "--scenarios", "stand", "--estimator", "kinematic_inertial"]
+    )
+    assert set(map(frozenset, _estimators(spec_from_mapping(_sweep_mapping(args))).values())) == {
+        frozenset({"kinematic_inertial"})
+    }
+    main_toml = str(Path(__file__).parents[2] / "bench" / "specs" / "main.toml")
+    args = parser.parse_args(["sweep", "--spec", main_toml, "--estimator", "kinematic_inertial"])
+    job = spec_from_mapping(_sweep_mapping(args))
+    assert {e.run.estimator for e in job.episodes()} == {"kinematic_inertial"}
+    assert "capturability_hierarchy" in {e.controller for e in job.episodes()}
