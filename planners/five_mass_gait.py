@@ -82,6 +82,32 @@ STEP_SIZE_GAIN = 1.0  # K_s (Sec. 4)
 GAIT_ACCELERATION_MPS2 = 0.1
 
 
+def commanded_strides(steps: int, step_period_s: float, f_g_hz: float) -> int:
+    """The number of eq. 3 strides a walk of the fixed schedule's `steps` steps commands
+    (ours: the paper walks on a velocity command without an end). The fixed schedule advances
+    `steps` - 1 times in (`steps` - 1) x `step_period_s` [s]; at the gait frequency f_g [Hz]
+    (eq. 2: one stride per 1 / f_g) that time holds (steps - 1) T f_g strides, rounded, at
+    least 1; the closing step is added to them. Until 2026-11-27 steps x T x f_g, less the
+    closing step: one stride further."""
+    return max(1, round((steps - 1) * step_period_s * f_g_hz))
+
+
+def timed_gait_frequency(f_g_hz: float, k_t_hz_per_m: float, error_to_swing_m: float) -> float:
+    """Eq. 16: f~_g = f_g + K_t e [Hz], e [m] the lateral end-of-step error counted positive
+    toward the swing leg, limited to [0, 2 f_g]: the paper's "a 10 cm error fully slow[s]
+    down, or double[s] the gait progression" (K_t = 10 f_g per 0.1 m) read as the bounds of
+    the phase rate (ours: the paper states the gain, not a limit)."""
+    return min(max(f_g_hz + k_t_hz_per_m * error_to_swing_m, 0.0), 2 * f_g_hz)
+
+
+def foothold_adjustment_limit(step_width_m: float) -> float:
+    """How far [m, per horizontal axis] Kajita's modified foot placement ([14]) may move a
+    foothold from eq. 3's nominal one: half the step width, so that the feet never cross
+    (ours: the paper calls the refinement a "slight position adjustment", Sec. 3.1, and gives
+    no bound)."""
+    return step_width_m / 2
+
+
 @dataclass(frozen=True)
 class SteppingOptions:
     """Which parts of the stepping controller run (the Table 1 ablation)."""
@@ -171,7 +197,7 @@ class FiveMassGaitPlanner:
         # (steps - 1 step periods at the speed), each a fraction of a full one while the speed
         # ramps up; then the closing step
         self.stride_factors = stride_factors(
-            max(1, round((gait.steps - 1) * step_period * self.f_g)),
+            commanded_strides(gait.steps, step_period, self.f_g),
             float(np.linalg.norm(self.velocity_command)),
             GAIT_ACCELERATION_MPS2,
             self.f_g,
@@ -258,9 +284,7 @@ class FiveMassGaitPlanner:
         error_path = rotation.T @ (eos - eos_ref)  # (forward, left) in the support's frame
         swing_side = -1.0 if self.support == "left_foot" else 1.0  # +y when the left swings
         if self.options.step_timing:  # eq. 16
-            self.f_tilde = min(
-                max(self.f_g + self.k_t * swing_side * error_path[1], 0.0), 2 * self.f_g
-            )
+            self.f_tilde = timed_gait_frequency(self.f_g, self.k_t, swing_side * error_path[1])
         else:
             self.f_tilde = self.f_g
         if self.options.step_size and self.steps_done < self.n_steps - 1:  # eq. 17
@@ -394,7 +418,7 @@ class FiveMassGaitPlanner:
             )
             # a "slight position adjustment" (Sec. 3.1): within half the step width of the
             # nominal foothold, so that the feet never cross
-            limit = self.step_width / 2
+            limit = foothold_adjustment_limit(self.step_width)
             nominal.position[:2] += np.clip(refined - nominal.position[:2], -limit, limit)
         else:  # the closing step lands beside the actual support
             nominal = self._nominal_after(

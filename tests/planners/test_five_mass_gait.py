@@ -7,7 +7,14 @@ import numpy as np
 import pytest
 
 from bench.scenarios import make_scenario, walk
-from planners.five_mass_gait import GAIT_ACCELERATION_MPS2, FiveMassGaitPlanner, SteppingOptions
+from planners.five_mass_gait import (
+    GAIT_ACCELERATION_MPS2,
+    FiveMassGaitPlanner,
+    SteppingOptions,
+    commanded_strides,
+    foothold_adjustment_limit,
+    timed_gait_frequency,
+)
 from robots.gait import GaitCommand
 from robots.humanoid import humanoid
 from robots.model import RobotModel
@@ -217,3 +224,34 @@ def test_the_heading_is_continuous_when_the_feet_are_yawed_apart():
             break
     assert stopped_at is not None
     assert np.abs(np.diff(heading)).max() < 1e-3
+
+
+@pytest.mark.parametrize("f_g", [2.6, 1.98])
+def test_eq_16_a_10_cm_lateral_error_fully_slows_or_doubles_the_gait_at_the_papers_gain(f_g):
+    """Sec. 4: K_t = 10 f_g makes "a 10 cm EOS error in the lateral plane fully slow down, or
+    double the gait progression"; larger errors change it no further (the bounds, ours)."""
+    k_t = 10 * f_g / 1.0  # per metre: 10 f_g for 0.1 m is a change of f_g
+    assert timed_gait_frequency(f_g, k_t, 0.0) == f_g
+    assert timed_gait_frequency(f_g, k_t, 0.1) == pytest.approx(2 * f_g, rel=1e-12)
+    assert timed_gait_frequency(f_g, k_t, -0.1) == pytest.approx(0.0, abs=1e-12)
+    assert timed_gait_frequency(f_g, k_t, 0.5) == 2 * f_g
+    assert timed_gait_frequency(f_g, k_t, -0.5) == 0.0
+    assert timed_gait_frequency(f_g, k_t, 0.05) == pytest.approx(1.5 * f_g, rel=1e-12)
+
+
+def test_a_walk_commands_one_stride_per_step_period_of_the_fixed_schedule():
+    """A walk of n steps of period T advances n - 1 times in (n - 1) T; at f_g = 1 / T that is
+    n - 1 strides, at 2 / T twice as many; never fewer than one."""
+    assert commanded_strides(10, 0.9, 1 / 0.9) == 9
+    assert commanded_strides(10, 0.9, 2 / 0.9) == 18
+    assert commanded_strides(1, 0.9, 1.98) == 1
+    assert commanded_strides(2, 0.1, 1.0) == 1
+
+
+def test_a_refined_foothold_moves_at_most_half_the_step_width_so_the_feet_never_cross():
+    """Two footholds a step width w apart, each moved toward the other by the limit, meet at
+    most: they do not cross."""
+    for width in (0.18, 0.2):
+        limit = foothold_adjustment_limit(width)
+        assert (width / 2 - limit) - (-width / 2 + limit) >= 0.0
+        assert limit == width / 2
