@@ -96,7 +96,7 @@ DIRECT_CENTROIDAL_ROWS = (
     ("step_size", "five_mass_gait", "direct_centroidal", "five_mass_pose"),
     ("no_inertia", "five_mass_gait", "direct_centroidal_no_inertia", "five_mass_pose"),
     # ours, not a row of the paper: without the straight-support-leg constraint as well, which
-    # survives more walking pushes on our robot (README, issue 17)
+    # survives more walking pushes on our robot (docs/ficht-behnke.md)
     ("bent_no_inertia", "five_mass_gait", "direct_centroidal_no_inertia", "five_mass_pose_bent"),
     # ours: the same with the free limbs' gravity torques, part of the model feed-forward of the
     # authors' platform software (`wholebody.five_mass_pose.FreeLimbGravity`)
@@ -146,7 +146,7 @@ ABLATIONS["capturability_hierarchy"] = ControllerSpec(
     estimator="ground_truth",  # the paper: "perfect model and perfect inertial measurement"
 )
 """Named and runnable, but out of "all" (and so the main job) until it fits its budget
-(issue 22): about 3.5 ms of control per 2 ms period (README)."""
+(issue 22): about 3.5 ms of control per 2 ms period (docs/sherikov.md)."""
 CONTROLLERS["direct_centroidal"] = ABLATIONS["direct_centroidal"]
 CONTROLLERS["direct_centroidal/no_inertia"] = ABLATIONS["direct_centroidal/no_inertia"]
 

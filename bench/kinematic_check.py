@@ -14,7 +14,7 @@ test checks it), so one engine answers for both.
 What it is for: a motion that fails here fails in every simulator with every controller,
 whatever the gains, so its failure is the robot's geometry and the motion's targets, found in
 seconds: the ladder (Fig. 4 C) first touches a rung with the thigh at 7.83 s here and falls
-at 7.82 s in both simulators (README). `centrobench check SCENARIO` prints it.
+at 7.82 s in both simulators (docs/multi-contact.md). `centrobench check SCENARIO` prints it.
 """
 
 from __future__ import annotations

@@ -779,7 +779,7 @@ def ladder_motion(model: RobotModel, duration: float | None = None) -> Scenario:
 
     On the centrobench humanoid this rule puts the knee of a leg stepping up into the rungs
     above (its shank and ankle, 0.44 m, are two rung spacings): both simulators stop it at the
-    first step (the thigh touches a rung, README)."""
+    first step (the thigh touches a rung, docs/multi-contact.md)."""
     robot = model.robot
     s, time_scale, poses, feet, sequence = _begin(model)
     com_x = LADDER_X * s - (PAPER_LADDER_COM_BEHIND_M - PAPER_LADDER_COM_FORWARD_M) * s

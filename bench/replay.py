@@ -22,7 +22,7 @@ Chosen over meshcat (a 3-D viewer in the browser, interactive): its Python packa
 ZeroMQ server, IPython, tornado and pyngrok, six dependencies more; PyBullet's renderer and
 matplotlib are dependencies already. Measured (a 12 s walk, 5682 periods, run in 4.1 s): a
 frame renders in 47 ms; at 10 frames per simulated second the replay's 115 frames take 21 s
-to draw and compose and the page is 12 MB (README, "Robustness dimensions").
+to draw and compose and the page is 12 MB (docs/robustness.md).
 """
 
 from __future__ import annotations

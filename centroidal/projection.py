@@ -6,6 +6,11 @@ G (6 x n) stacks the contacts' generator matrices (`centroidal.contacts`), w the
 wrench (force; moment about the world origin). eps (default 1e-8, relative to the problem
 scale it is negligible: 1e-8 N of force per unit ridge force) makes the problem strictly convex
 so every backend has the same unique answer; `upper` optionally bounds each ridge force.
+An adaptation: eqs. 9 and 13 have no eps term; 1e-8 on unit ridges is the authors' own
+(isri-aist/ForceControlCollection `WrenchDistribution`, `regularWeight`, used by their
+CentroidalControlCollection and MultiContactController). That code also bounds every ridge
+force to [3, 1000] N and takes moments about the CoM; here the paper's lambda >= 0 and world
+origin are kept.
 
 Backends, chosen by name (`BACKEND_NAMES`): scipy `nnls`; `daqp_native` (daqp's own API on
 the condensed problem, with G^T G + eps I kept while G stays the same object); daqp, quadprog,
@@ -14,7 +19,7 @@ proxqp, osqp, clarabel through qpsolvers (proxqp, osqp and clarabel in the lifte
 underneath); `casadi` (a `conic` QP per ridge count, built once, qpOASES). The default is
 `DEFAULT_BACKEND`, the fastest accurate one on the walk's contact sets in `make benchmark`
 (tests/benchmarks/test_projection.py: 12 / 22 us at 16 / 32 ridges against nnls' 19 / 40 and
-daqp-through-qpsolvers' 22 / 34); see README.
+daqp-through-qpsolvers' 22 / 34); see docs/latency.md.
 """
 
 from __future__ import annotations
@@ -28,7 +33,7 @@ import scipy.optimize
 import scipy.sparse
 
 GRAVITY = np.array([0.0, 0.0, 9.81])
-DEFAULT_BACKEND = "daqp_native"  # fastest accurate on the walk's contact sets; see README
+DEFAULT_BACKEND = "daqp_native"  # fastest accurate on the walk's contact sets; see docs/latency.md
 REGULARIZATION = 1e-8
 
 

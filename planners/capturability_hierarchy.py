@@ -28,12 +28,13 @@ used: its speed is the velocity objective's reference, and its number of steps b
 constants below: the objectives' weights and gains, the joint-limit horizon T, the
 torsional friction coefficient, the footstep rectangles, the swing's vertical profile, the
 split of a step into 0.7 s single and 0.1 s double support (Herdt et al.'s), and when a
-standing robot starts to step (ours: its capture point 3 cm off the feet's middle; the
-paper's robot walks from the start of its tests), and, to make it stand and step on our robot
-in a simulator (each measured, README): the current CoP z_0 bounded too, a 2 cm margin inside
-the soles, a least load on every contact sole, contact-velocity damping in eq. 8, a CoM-height
-objective, the swing's orientation held by a PD, the footstep kept in the last 0.1 s of a
-swing, and the "both feet" support as the box around both soles (exact for feet side by side).
+standing robot starts to step (ours: its capture point 3 cm off the feet's middle; the paper's
+robot walks from the start of its tests), and, to make it stand and step on our robot in a
+simulator (each measured, docs/sherikov.md): the current CoP z_0 bounded too, a 2 cm margin
+inside the soles, a least load on every contact sole, contact-velocity damping in eq. 8, a
+CoM-height objective, the swing's orientation held by a PD, the footstep kept in the last
+0.1 s of a swing, and the "both feet" support as the box around both soles (exact for feet
+side by side).
 """
 
 from __future__ import annotations
@@ -80,7 +81,7 @@ and, with one objective left out of the same problem, -0.79 (hand), -0.76 (joint
 1e-3), 0.00 (CoM height), +0.55 (torso), and the robot ran forward onto its rectangles' limit
 and fell. At 1e5 they still move it (by up to 0.8 m/s^2 in a later state): the weight is
 chosen by its results on the standing push protocol (20 pushes at 0.4 m/s, MuJoCo,
-2026-11-27): weight 10: 8 survived, 1e3: 8, 1e4: 12, 1e5: 15, 1e6: 14 (README, issue 18)."""
+2026-11-27): weight 10: 8 survived, 1e3: 8, 1e4: 12, 1e5: 15, 1e6: 14 (docs/sherikov.md)."""
 COP_VELOCITY_WEIGHT = 1.0  # eq. 22
 JERK_WEIGHT = 10.0  # eq. 20
 JERK_TIME_FLOOR_S = 0.2  # [s] eq. 20's remaining time no shorter (row norms within 2e3)

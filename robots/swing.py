@@ -25,7 +25,7 @@ starts from the IK's last result (`swingStartPolicy: ControlRobot`); the limb's 
 the pose only, not MCC's velocity and acceleration feed-forward; a limb let go (MCC's Remove
 command: withdraw, hold, stiffness ramped to zero) is handed to the posture task
 (`LimbWaypoint.release`); and MCC's stop of the swing at an early touchdown is not modelled
-(tried in the stabilizer, README "(A)": no change).
+(tried in the stabilizer, docs/multi-contact.md "(A)": no change).
 
 Unlike our lifted swing (`bench.motions.ContactSequence.move(lift=...)`: quintic pieces
 between waypoints, stopping at each), the foot never stops between lift-off and touchdown:

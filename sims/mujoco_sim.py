@@ -1,7 +1,7 @@
 """MuJoCo backend: the generated MJCF loaded through `mujoco.MjSpec` (free joint at the root),
 the scene added through the same MjSpec.
 
-Physics settings (identical intent to `sims.pybullet_sim`; see README "Simulator differences"):
+Physics settings (identical intent to `sims.pybullet_sim`; see docs/simulators.md):
 - integrator Euler (semi-implicit, like Bullet), elliptic friction cone (Coulomb's circle, as
   Bullet's default cone friction) with `FRICTION_IMPRATIO`, condim 3 (no torsional or rolling
   friction: Bullet has none by default), friction = scene.friction;

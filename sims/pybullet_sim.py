@@ -5,7 +5,7 @@ PyBullet quaternions are (x, y, z, w); they are converted to (w, x, y, z) here a
 PyBullet places a link's dynamic state at its centre of mass ("inertial frame"); this module
 converts to the link frame that `RobotState` and the other backends use.
 
-Physics settings (same intent as `sims.mujoco_sim`; see README "Simulator differences"):
+Physics settings (same intent as `sims.mujoco_sim`; see docs/simulators.md):
 - default velocity motors disabled, joint torques from `sims.servo` each physics step;
 - PyBullet's default link damping (0.04 linear and angular) set to 0, joint damping 0;
 - contact and friction ERP 0.2 (see CONTACT_ERP);

@@ -42,7 +42,13 @@ from robots.types import RobotState, WholeBodyTargets
 @dataclass(frozen=True)
 class IKWeights:
     """Task weights (dimensionless; errors in m and rad) and the fraction `gain` of each task
-    error corrected per call."""
+    error corrected per call. Ours (an adaptation): Murooka et al. give none (Sec. V-A1: an
+    acceleration-based IK with a "low stiffness" posture task); these rank the tasks, contacts
+    above the CoM above the base and free limbs, posture far below. The authors' mc_rtc
+    configurations (MultiContactController, BaselineWalkingController `etc/*.yaml`) weight the
+    CoM and every foot alike (1000, stiffness 1000), the base orientation 500 (stiffness 300)
+    and the posture 10 (stiffness 10), at the acceleration level, so the numbers do not carry
+    over."""
 
     contact: float = 1e5
     com: float = 1e3

@@ -111,8 +111,8 @@ def test_reach_walks_to_the_hand_target_wherever_it_moves(sim, monkeypatch):
     strict=True,
     reason="the 15 N s push at 2.5 s comes 0.1 s into the left foot's swing (our reading of "
     "the paper), but the left foot may land only 0.2 m wider than the standing width (eq. 12's "
-    "rectangle, ours) with the capture point 12 cm beyond it: it falls (MuJoCo 3.36 s; README, "
-    "issue 18)",
+    "rectangle, ours) with the capture point 12 cm beyond it: it falls (MuJoCo 3.36 s; "
+    "docs/sherikov.md, issue 18)",
 )
 @pytest.mark.parametrize("sim", SIMS)
 def test_reach_push(sim):

@@ -454,8 +454,8 @@ def test_the_mpc_plans_no_wrench_to_project_on_the_resting_stairs(resting_stairs
     needs no projection (zero within solver tolerance) over the climb, in both simulators; the
     feedback then leaves a desired wrench to project (not zero). Whether it climbs to the end
     is decided by round-off in MuJoCo (2026-11-27: a fall at 28.9 s, none in a version that
-    differed from it by round-off; README), so the errors are judged over what it climbed:
-    more than half the motion. "Not zero" is 1e-2 N, four orders of magnitude above the
+    differed from it by round-off; docs/multi-contact.md), so the errors are judged over what
+    it climbed: more than half the motion. "Not zero" is 1e-2 N, four orders of magnitude above the
     planned error (the desired one was 1.3-7.1 N at the standing CoM height, 0.08-0.27 N since
     the climb tracks its plan better, 2026-11-27: less feedback to project)."""
     _, episodes = resting_stairs
@@ -726,7 +726,7 @@ _FALLS = {
     "before the redesign 14.0 / 15.2 s)",
     "ladder": "(C) falls (2026-11-24) at 7.82 s in both simulators: the right thigh touches a "
     "rung on the first step up, as the kinematics predict for Sec. V-C's CoM 0.3 m behind "
-    "the ladder (README, (C) the ladder)",
+    "the ladder (docs/multi-contact.md, (C) the ladder)",
 }
 
 
