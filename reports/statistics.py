@@ -112,7 +112,9 @@ def paired_table(
     """Every pair of controllers, per group of `by`, on the pushes both were judged on:
     `outcomes` has columns controller, survived (bool), the `by` columns and the `pair_keys`
     that identify one push (phase, level, direction, replica...). Columns: the `by` columns,
-    controller A, controller B, pushes (paired), only A, only B, p (exact McNemar)."""
+    controller A, controller B, pushes (paired), only A, only B, p (exact McNemar). A pair
+    without a push in common (two robots' controllers, whose pushes differ) is no comparison
+    and has no row."""
     rows = []
     for group_key, group in outcomes.groupby(list(by), sort=True):
         group_key = group_key if isinstance(group_key, tuple) else (group_key,)
@@ -123,6 +125,8 @@ def paired_table(
         for i, first in enumerate(controllers):
             for second in controllers[i + 1 :]:
                 both = wide[[first, second]].dropna()
+                if both.empty:
+                    continue
                 test = paired_test(both[first].astype(bool), both[second].astype(bool))
                 rows.append(
                     {

@@ -89,6 +89,22 @@ def test_paired_table_pairs_only_the_pushes_both_controllers_were_judged_on():
     assert row["p"] == pytest.approx(2 / 8)  # 2 x (1/2)^3
 
 
+def test_paired_table_leaves_out_pairs_without_a_push_in_common():
+    """Two robots' controllers are pushed differently (their pushes' keys differ): pairing
+    them compares nothing, so there is no row (the main job's report had 112 such rows, every
+    one 0 pushes and p = 1, beside the 100 real ones)."""
+    rows = []
+    for push in range(4):
+        for controller in ("a @ humanoid", "b @ humanoid"):
+            rows.append({"sim": "mujoco", "controller": controller, "push": push, "survived": True})
+        rows.append({"sim": "mujoco", "controller": "a @ jvrc1", "push": 10 + push, "survived": 0})
+    table = paired_table(pd.DataFrame(rows), pair_keys=["push"])
+    assert list(zip(table["controller A"], table["controller B"], strict=True)) == [
+        ("a @ humanoid", "b @ humanoid")
+    ]
+    assert table.iloc[0]["pushes"] == 4
+
+
 def test_simulator_band_spans_the_finite_values():
     assert simulator_band({"mujoco": 0.7, "pybullet": 0.55}) == (0.55, 0.7)
     assert simulator_band({"mujoco": 0.7, "pybullet": float("nan")}) == (0.7, 0.7)
