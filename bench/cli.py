@@ -645,6 +645,13 @@ def build_parser() -> argparse.ArgumentParser:
         default=0.01,
         help="the bisection's grid [m/s], at most the increment (default 0.01)",
     )
+    speed.add_argument(
+        "--replicas",
+        type=_integer("--replicas", 1, MAX_REPLICAS),
+        default=1,
+        help="walks per speed, replica 0 nominal, the others with a small seeded initial "
+        "velocity; a speed is walked when R - R // 5 of them walk (4 of 5) (default 1)",
+    )
 
     report = commands.add_parser("report", help="build report.md and report.html from results")
     report.add_argument(
@@ -1230,6 +1237,7 @@ def _speed(args: argparse.Namespace) -> int:
             maximum=args.maximum,
             resolution=args.resolution,
             steps=args.steps,
+            replicas=args.replicas,
         )
     except ValueError as exc:
         raise UsageError(f"speed: {exc}") from None

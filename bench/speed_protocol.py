@@ -14,6 +14,13 @@ of their own at the commanded speed (the paper's "20 steps"; and the steps of it
 limited acceleration, `planners.five_mass_gait.GAIT_ACCELERATION_MPS2`, for which its walks
 are given speed / acceleration seconds more, and their walked speed is measured after that
 time, `steady_speed`) and the fixed-schedule ones 12 steps of 0.9 s.
+
+With `replicas` R > 1 every speed is walked R times, replica 0 as the nominal walk and the
+others each with a small seeded change (`bench.runner.replica_changes`: a horizontal initial
+base velocity of sigma 1 cm/s), and a speed counts as walked when at least `required` of them
+walk: R - R // 5, 4 of 5 as the push protocol's robust thresholds (DESIGN.md: "replicate each
+magnitude"); the search is then on those outcomes. The walking quality at the speed found is
+replica 0's.
 """
 
 from __future__ import annotations
@@ -25,6 +32,8 @@ from typing import Any
 
 import pandas as pd
 
+from bench.push_protocol import MAX_REPLICAS  # the same bound as a push's replicas
+
 
 @dataclass(frozen=True)
 class SpeedProtocol:
@@ -33,12 +42,21 @@ class SpeedProtocol:
     maximum: float = 0.8  # [m/s]
     resolution: float = 0.01  # [m/s]
     steps: int = 12
+    replicas: int = 1  # walks per speed (replica 0 the nominal one)
 
     def __post_init__(self) -> None:
         if not 0 < self.resolution <= self.increment:
             raise ValueError("resolution must be positive and at most the increment")
         if not 0 < self.start <= self.maximum:
             raise ValueError("start must be positive and at most the maximum")
+        if not 1 <= self.replicas <= MAX_REPLICAS:
+            raise ValueError(f"replicas must be an integer in [1, {MAX_REPLICAS}]")
+
+    @property
+    def required(self) -> int:
+        """The replicas that must walk for a speed to count as walked: R - R // 5 (all of
+        fewer than 5; 4 of 5, as the push protocol's robust thresholds)."""
+        return self.replicas - self.replicas // 5
 
 
 class SpeedSearch:
@@ -76,16 +94,17 @@ class SpeedSearch:
             self.failed = speed if self.failed is None else min(self.failed, speed)
 
 
-def speed_episode(item: tuple[str, str, float, int]) -> dict[str, Any]:
-    """Walk `walk` at the item's (controller, sim, speed [m/s], steps); the row of the
-    outcome. Runs in a worker process (module level: picklable)."""
+def speed_episode(item: tuple) -> dict[str, Any]:
+    """Walk `walk` at the item's (controller, sim, speed [m/s], steps[, replica]); the row of
+    the outcome. Runs in a worker process (module level: picklable)."""
     from bench.controllers import controller_spec
     from bench.metrics import walking_quality
     from bench.runner import EpisodeSpec, run_episode
     from planners.five_mass_gait import GAIT_ACCELERATION_MPS2
     from robots.gait import GaitCommand
 
-    controller, sim, speed, steps = item
+    controller, sim, speed, steps = item[:4]
+    replica = item[4] if len(item) > 4 else 0
     spec = controller_spec(controller)
     gait = GaitCommand(speed=speed, steps=steps)
     # [s] the five-mass gait's start to the speed (its planners are the only ones that start
@@ -105,6 +124,7 @@ def speed_episode(item: tuple[str, str, float, int]) -> dict[str, Any]:
             speed=speed,
             steps=steps,
             duration=duration,
+            replica=replica,
         )
     )
     summary = result.summary
@@ -112,6 +132,7 @@ def speed_episode(item: tuple[str, str, float, int]) -> dict[str, Any]:
         "controller": controller,
         "sim": sim,
         "speed_command_mps": speed,
+        "replica": replica,
         "status": summary["status"],
         "error": summary["error"],
         "fall_time": summary["fall_time"],
@@ -150,7 +171,8 @@ def run_speed_protocol(
     budget_s: float = 600.0,
     progress: bool = True,
 ) -> pd.DataFrame:
-    """Every trial's row (controller, sim, speed_command_mps, status, ...), in the order run."""
+    """Every trial's row (controller, sim, speed_command_mps, replica, status, ...,
+    replicas_required), in the order run."""
     from bench.executors import make_executor
 
     protocol = protocol or SpeedProtocol()
@@ -163,28 +185,37 @@ def run_speed_protocol(
             for (controller, sim), search in searches.items():
                 speed = search.next_speed()
                 if speed is not None:
-                    batch.append((controller, sim, speed, protocol.steps))
+                    batch += [
+                        (controller, sim, speed, protocol.steps, replica)
+                        for replica in range(protocol.replicas)
+                    ]
             if not batch:
                 break
             if progress:
+                done = len(searches) - len(batch) // protocol.replicas
                 print(
                     f"speed (Ficht & Behnke Table 1), round {round_number}: {len(batch)} walks; "
-                    f"{len(searches) - len(batch)} of {len(searches)} searches done",
+                    f"{done} of {len(searches)} searches done",
                     file=sys.stderr,
                     flush=True,
                 )
+            walked: dict[tuple[str, str, float], int] = {}
             for item, result in executor.map_unordered(work, batch, budget=lambda _: budget_s):
-                controller, sim, speed, _ = item
+                controller, sim, speed, _, replica = item
                 if isinstance(result, BaseException):
                     result = {
                         "controller": controller,
                         "sim": sim,
                         "speed_command_mps": speed,
+                        "replica": replica,
                         "status": "error",
                         "error": f"{type(result).__name__}: {result}",
                     }
-                rows.append(result)
-                searches[controller, sim].record(speed, result["status"] == "ok")
+                rows.append({**result, "replicas_required": protocol.required})
+                key = (controller, sim, speed)
+                walked[key] = walked.get(key, 0) + (result["status"] == "ok")
+            for (controller, sim, speed), count in walked.items():
+                searches[controller, sim].record(speed, count >= protocol.required)
     finally:
         executor.close()
     return pd.DataFrame(rows)

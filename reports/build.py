@@ -95,6 +95,22 @@ def read_all_results(
     return episodes, records, notes
 
 
+def label_estimators(episodes: pd.DataFrame) -> pd.DataFrame:
+    """The episodes with a controller's estimator in its label when it is not the default one
+    ("capturability_hierarchy [ground_truth]"), so that every table says which controllers
+    were given another state (a perfect one, or a method's own filter) than the others; the
+    sweep spec's `estimator` does not say it (a controller may come with its own)."""
+    from estimators import DEFAULT_ESTIMATOR
+
+    if "estimator" not in episodes:
+        return episodes
+    other = episodes["estimator"].notna() & (episodes["estimator"] != DEFAULT_ESTIMATOR)
+    labels = episodes["controller"].where(
+        ~other, episodes["controller"] + " [" + episodes["estimator"].astype(str) + "]"
+    )
+    return episodes.assign(controller=labels)
+
+
 def label_robots(episodes: pd.DataFrame) -> pd.DataFrame:
     """The episodes with their `robot` filled in (rows written before robots could be chosen
     have none: the default robot's) and, when more than one robot is present, the robot in
@@ -206,12 +222,15 @@ def sections(
                     "0.1 s from a direction drawn uniformly on the circle (the same directions "
                     f"for every controller); survived = no fall within {survival_time:g} s "
                     "after it. Levels are velocity changes dv = J / m, with the impulse J for "
-                    "this robot. Judged: the episodes that ended ok or fell, and those whose "
+                    "the robot (a range over the robots when several were pushed). Judged: "
+                    "the episodes that ended ok or fell, and those whose "
                     "controller failed (an error raised by its estimator, planner, stabilizer "
                     "or whole-body layer, such as a solver that gives up), which count as not "
                     "survived; those that ended in another error (set-up, simulator, worker) "
                     "or a timeout are counted under 'not judged' (rerun them with "
-                    "`centrobench sweep ... --resume --retry-errors`).",
+                    "`centrobench sweep ... --resume --retry-errors`), and those in which the "
+                    "robot fell before the push came under 'fell before the push' (they say "
+                    "nothing of push recovery).",
                     table,
                 )
             )
@@ -290,9 +309,14 @@ def _headline_sections(
                 "2. How fast each controller walks (Ficht & Behnke Table 1)",
                 "Per controller and simulator (`centrobench speed`): the highest commanded "
                 "forward speed v_ref it walked a walk at without falling (a ladder of speeds "
-                "refined by bisection), the mean speed v walked there over the steady steps, "
+                "refined by bisection), v_fell the lowest speed tried above it, which it did "
+                "not walk (the answer lies between them), the mean speed v walked at v_ref "
+                "over the steady steps, "
                 "and eq. 18's e_c [m s], e_z [m s], e_v [m/s] against its own plan there; "
-                "walks: how many the search took.",
+                "walks: how many the search took. With replicas (`centrobench speed "
+                "--replicas 5`) a speed counts as walked when 4 of 5 walk it; at v_ref and "
+                "above: the replicas that walked the speed found and the lowest one tried "
+                "above it (without replicas, one walk per speed decides).",
                 tables.speed_table(speed),
             )
         )
@@ -365,7 +389,10 @@ def _robustness_sections(episodes: pd.DataFrame) -> list[tuple[str, str, pd.Data
                     "Two controllers on the same pushes (level, direction) in one simulator: "
                     "only A / only B are the pushes one survived and the other did not; p is "
                     "the exact McNemar test (two-sided binomial test of only A out of the "
-                    "discordant pushes at 1/2). Most significant first.",
+                    "discordant pushes at 1/2); q is its Benjamini-Hochberg false discovery "
+                    "rate over the table's tests (judge a difference by q: many pairs are "
+                    "tested at once). Pushes that either controller fell before are left out. "
+                    "Most significant first.",
                     paired,
                 )
             )
@@ -449,7 +476,7 @@ def build_report(
     if not roots:
         raise FileNotFoundError("no result directory given")
     episodes, records, notes = read_all_results(roots)
-    episodes = label_robots(episodes)
+    episodes = label_robots(label_estimators(episodes))
     record = records[0]
     windows = {survival_time_s(r) for r in records}
     if len(windows) > 1:

@@ -9,6 +9,12 @@ timeout (a wall-clock budget, which depends on the machine); they say nothing ab
 controller and are shown as "not judged". (`sweep --resume --retry-errors` reruns every
 "error" and "timeout" row, a controller's failure too, which is deterministic.)
 
+A pushed episode that ended before its push came (the robot fell, or its controller failed,
+earlier than `push_time_s`) is judged as an episode but says nothing of push recovery: the
+push tables count it apart, "fell before the push" (`judged_push`), instead of as a push not
+survived (until 2026-11-28 it was one: a controller that cannot stand read "0/20" beside the
+others, and won or lost paired tests on pushes it never received).
+
 One definition for the result rows (`bench.dataset`) and every report table.
 """
 
@@ -45,3 +51,22 @@ def failure_label(error_stage: object, duration: object = None) -> str:
     if duration is None or pd.isna(duration):
         return f"{stage} failed"
     return f"{stage} failed at {float(duration):.1f} s"
+
+
+def ended_before_push(rows: pd.DataFrame) -> pd.Series:
+    """Per row: a pushed episode that fell (`fall_time`) or whose controller failed
+    (`duration`, the simulated time reached) before its push (`push_time_s`) [s]; False for
+    episodes without a push and for rows written without these columns."""
+    if "push_time_s" not in rows:
+        return pd.Series(False, index=rows.index)
+    push = rows["push_time_s"]
+    fell = (rows["status"] == "fell") & (rows["fall_time"] < push)
+    duration = rows["duration"] if "duration" in rows else pd.Series(float("nan"), rows.index)
+    failed = controller_failed(rows) & (duration < push)
+    return (fell | failed).fillna(False).astype(bool)
+
+
+def judged_push(rows: pd.DataFrame) -> pd.Series:
+    """Per row: judged (`judged`) and not ended before its push (`ended_before_push`): the
+    episodes that say whether the controller came through its push."""
+    return judged(rows) & ~ended_before_push(rows)

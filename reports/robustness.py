@@ -14,8 +14,9 @@ import math
 
 import numpy as np
 import pandas as pd
+from scipy import stats
 
-from reports.outcomes import judged
+from reports.outcomes import ended_before_push, judged, judged_push
 from reports.statistics import (
     ROBUST_REPLICAS,
     fraction_cell,
@@ -258,23 +259,28 @@ def paired_comparisons(episodes: pd.DataFrame, phase: str) -> pd.DataFrame:
     """Every pair of controllers per simulator on the protocol pushes of `phase` (nominal,
     replica 0) both were judged on, a push being the same test (`EPISODE_KEYS`: level, world
     direction, timing, seed, scale, friction, robot): the pushes one survived and the other
-    did not, and the exact McNemar p-value (`reports.statistics.paired_table`), most
-    significant first."""
+    did not, and the exact McNemar p-value (`reports.statistics.paired_table`) with the
+    Benjamini-Hochberg q-value over the table's tests (scipy's `false_discovery_control`: many
+    pairs are tested at once), most significant first. A push that either controller fell
+    before is no comparison of push recovery (`reports.outcomes.judged_push`)."""
     rows = protocol_pushes(episodes, phase)
-    rows = rows[judged(rows)]
+    rows = rows[judged_push(rows)]
     if rows["controller"].nunique() < 2:
         return pd.DataFrame()
     outcomes = rows.assign(
         survived=rows["survived"].fillna(False).astype(bool), push=episode_key(rows)
     )
     table = paired_table(outcomes, pair_keys=["push"], by=("sim",))
+    if len(table):
+        table["q (BH)"] = stats.false_discovery_control(table["p"].to_numpy(), method="bh")
     return table.sort_values(["p", "sim"], kind="stable").reset_index(drop=True)
 
 
 def headline_survival(episodes: pd.DataFrame) -> pd.DataFrame:
     """Per controller x push phase: the protocol pushes survived over all levels in each
     simulator, k/n with the 95 % Wilson interval, and the band between the simulators' rates
-    [%] (low-high)."""
+    [%] (low-high). Episodes that fell before their push are not pushes
+    (`reports.outcomes.judged_push`): a cell says how many ("20 fell before the push")."""
     result = []
     for phase in ("standing", "walking"):
         rows = protocol_pushes(episodes, phase)
@@ -283,8 +289,12 @@ def headline_survival(episodes: pd.DataFrame) -> pd.DataFrame:
             row = {"controller": controller, "phase": phase}
             rates = {}
             for sim, runs in group.groupby("sim", sort=True):
+                before = int(ended_before_push(runs).sum())
+                runs = runs[~ended_before_push(runs)]
                 alive = runs["survived"].fillna(False).astype(bool)
-                row[sim] = fraction_cell(int(alive.sum()), len(alive))
+                cell = fraction_cell(int(alive.sum()), len(alive)) if len(alive) else ""
+                note = f"{before} fell before the push" if before else ""
+                row[sim] = ", ".join(part for part in (cell, note) if part)
                 rates[sim] = float(alive.mean()) if len(alive) else math.nan
             low, high = simulator_band(rates)
             row["band %"] = "" if math.isnan(low) else f"{100 * low:.0f}-{100 * high:.0f}"
@@ -298,7 +308,7 @@ def direction_table(episodes: pd.DataFrame) -> pd.DataFrame:
     and replicas as k/n with its 95 % Wilson interval. Empty without support-relative
     pushes or several swing fractions."""
     rows = episodes[perturbation_labels(episodes) == "nominal"]  # every replica
-    rows = rows[(rows["push_phase"] == "walking") & judged(rows)]
+    rows = rows[(rows["push_phase"] == "walking") & judged_push(rows)]
     if rows.empty or "push_direction_name" not in rows:
         return pd.DataFrame()
     rows = rows.assign(

@@ -16,7 +16,7 @@ from collections.abc import Mapping
 import numpy as np
 import pandas as pd
 
-from reports.outcomes import judged
+from reports.outcomes import ended_before_push, judged, judged_push
 from reports.robustness import nominal, protocol_pushes
 from reports.statistics import fraction_cell, simulator_band, wilson_interval
 
@@ -74,8 +74,12 @@ def projection_table(episodes: pd.DataFrame) -> pd.DataFrame:
     return walks(episodes).groupby(KEYS, sort=True)[list(PROJECTION_COLUMNS)].mean().reset_index()
 
 
-def level_label(dv: float, impulse: float) -> str:
-    return f"{dv:g} m/s ({impulse:.1f} N s)"
+def level_label(dv: float, impulse: float, impulse_high: float | None = None) -> str:
+    """A push level's column: dv [m/s] and the impulse J = m dv [N s] it is for the robot,
+    or the range of impulses over the robots pushed (`impulse_high`, when they differ)."""
+    if impulse_high is None or round(impulse_high, 1) == round(impulse, 1):
+        return f"{dv:g} m/s ({impulse:.1f} N s)"
+    return f"{dv:g} m/s ({impulse:.1f}-{impulse_high:.1f} N s)"
 
 
 PAPER_LOOP_US = {"direct_centroidal": 143.0}
@@ -110,23 +114,27 @@ def paper_latency_table(episodes: pd.DataFrame) -> pd.DataFrame:
 
 def survival_table(episodes: pd.DataFrame, phase: str = "standing") -> pd.DataFrame:
     """Ficht & Behnke Table 2: rows controller x simulator, a column per level (dv, and the
-    impulse in N s for this robot), cells "survived/pushes (95 % Wilson interval)" over the
-    judged episodes (`reports.outcomes`: ended "ok" or "fell", or the controller failed,
-    which counts as not survived; `reports.statistics.fraction_cell`); the episodes that
-    ended in another error or a timeout say nothing about the controller and are counted in
-    their own column, "not judged"."""
+    impulse in N s: the robot's when one robot was pushed, else the range over the robots),
+    cells "survived/pushes (95 % Wilson interval)" over the judged pushes
+    (`reports.outcomes.judged_push`: ended "ok" or "fell", or the controller failed, which
+    counts as not survived; `reports.statistics.fraction_cell`); the episodes that ended in
+    another error or a timeout say nothing about the controller and are counted in their own
+    column, "not judged", and those that fell before the push came in theirs, "fell before
+    the push"."""
     rows = pushes(episodes, phase)
     if rows.empty:
         return pd.DataFrame(columns=KEYS)
     rates = survival_rates(episodes, phase)
-    impulses = rows.groupby("push_dv_mps")["push_impulse_Ns"].mean()
+    impulses = rows.groupby("push_dv_mps")["push_impulse_Ns"].agg(["min", "max"])
     counts = zip(rates["survived"], rates["pushes"], strict=True)
     cells = (
         rates.assign(cell=[fraction_cell(k, n) for k, n in counts])
         .set_index([*KEYS, "push_dv_mps"])["cell"]
         .unstack()
     )
-    cells.columns = [level_label(dv, impulses[dv]) for dv in cells.columns]
+    cells.columns = [
+        level_label(dv, impulses.loc[dv, "min"], impulses.loc[dv, "max"]) for dv in cells.columns
+    ]
     cells = cells.fillna("0/0")
     not_judged = (
         rows[~judged(rows)]
@@ -134,25 +142,30 @@ def survival_table(episodes: pd.DataFrame, phase: str = "standing") -> pd.DataFr
         .agg(lambda s: ", ".join(f"{n} {k}" for k, n in sorted(s.value_counts().items())))
     )
     cells["not judged"] = [not_judged.get(key, "") for key in cells.index]
+    before = rows[ended_before_push(rows)].groupby(KEYS).size()
+    cells["fell before the push"] = [int(before.get(key, 0)) or "" for key in cells.index]
     return cells.reset_index()
 
 
 def survival_rates(episodes: pd.DataFrame, phase: str = "standing") -> pd.DataFrame:
-    """Long form of the survival table over the judged episodes (`reports.outcomes`):
+    """Long form of the survival table over the judged pushes (`reports.outcomes.judged_push`):
     controller, sim, dv, impulse, survived, pushes, rate with its 95 % Wilson interval
-    (rate_low, rate_high), and `not_judged` (error, timeout)."""
+    (rate_low, rate_high), `not_judged` (error, timeout) and `before_push` (fell before the
+    push came)."""
     rows = pushes(episodes, phase)
-    counted = judged(rows)
+    counted = judged_push(rows)
     grouped = rows.assign(
         survived=rows["survived"].fillna(False).astype(bool) & counted,
         judged=counted,
-        not_judged=~counted,
+        not_judged=~judged(rows),
+        before_push=ended_before_push(rows),
     ).groupby([*KEYS, "push_dv_mps"], sort=True)
     table = grouped.agg(
         impulse_Ns=("push_impulse_Ns", "mean"),
         survived=("survived", "sum"),
         pushes=("judged", "sum"),
         not_judged=("not_judged", "sum"),
+        before_push=("before_push", "sum"),
     ).reset_index()
     table["rate"] = table["survived"] / table["pushes"].where(table["pushes"] > 0)
     counts = zip(table["survived"], table["pushes"], strict=True)
@@ -296,26 +309,53 @@ def benchmark_table(benchmark: dict) -> pd.DataFrame:
 
 def speed_table(trials: pd.DataFrame) -> pd.DataFrame:
     """Table 1's shape per controller x simulator: the highest commanded speed walked [m/s]
-    (NaN: none), the mean speed walked there over the steady steps [m/s], e_c [m s], e_z
-    [m s], e_v [m/s] of eq. 18 there, and how many walks the search took."""
-    columns = [*KEYS, "v_ref_mps", "v_mps", "e_c", "e_z", "e_v", "walks"]
+    (NaN: none), the lowest speed tried above it, which was not walked (`v_fell_mps`, NaN:
+    none; the answer lies between the two), the mean speed walked there over the steady steps
+    [m/s], e_c [m s], e_z [m s], e_v [m/s] of eq. 18 there, and how many walks the search
+    took. With replicas
+    (`replica`, `replicas_required` from `centrobench speed --replicas`) a speed is walked
+    when at least the required replicas walked it, the quality is replica 0's, and two more
+    columns say how sure the answer is: "at v_ref", the replicas that walked the speed found,
+    and "above", those that walked the lowest speed tried above it ("k/n")."""
+    columns = [*KEYS, "v_ref_mps", "v_fell_mps", "v_mps", "e_c", "e_z", "e_v", "walks"]
+    replicated = "replica" in trials.columns and trials["replica"].fillna(0).max() > 0
+    if replicated:
+        columns += ["at v_ref", "above"]
     if trials.empty:
         return pd.DataFrame(columns=columns)
     result = []
     for (controller, sim), group in trials.groupby(KEYS, sort=True):
-        walked = group[group["status"] == "ok"]
+        replica = group["replica"].fillna(0) if "replica" in group else pd.Series(0, group.index)
+        required = (
+            group["replicas_required"].fillna(1)
+            if "replicas_required" in group
+            else pd.Series(1, group.index)
+        )
+        by_speed = {
+            speed: (int((runs["status"] == "ok").sum()), len(runs), int(required[runs.index].max()))
+            for speed, runs in group.groupby("speed_command_mps", sort=True)
+        }
+        walked_speeds = [speed for speed, (ok, _, need) in by_speed.items() if ok >= need]
         row = {"controller": controller, "sim": sim, "walks": len(group)}
-        if walked.empty:
+        if not walked_speeds:
             row.update(v_ref_mps=math.nan, v_mps=math.nan, e_c=math.nan, e_z=math.nan, e_v=math.nan)
         else:
-            best = walked.loc[walked["speed_command_mps"].idxmax()]
+            v_ref = max(walked_speeds)
+            first = group[(group["speed_command_mps"] == v_ref) & (replica == 0)].iloc[0]
             row.update(
-                v_ref_mps=best["speed_command_mps"],
-                v_mps=best.get("speed_walked_mps"),
-                e_c=best.get("e_com"),
-                e_z=best.get("e_zmp"),
-                e_v=best.get("e_velocity"),
+                v_ref_mps=v_ref,
+                v_mps=first.get("speed_walked_mps"),
+                e_c=first.get("e_com"),
+                e_z=first.get("e_zmp"),
+                e_v=first.get("e_velocity"),
             )
+        v_ref = row["v_ref_mps"]
+        above = [speed for speed in by_speed if math.isnan(v_ref) or speed > v_ref]
+        row["v_fell_mps"] = min(above) if above else math.nan
+        if replicated:
+            at = by_speed.get(v_ref)
+            row["at v_ref"] = f"{at[0]}/{at[1]}" if at else "–"
+            row["above"] = f"{by_speed[min(above)][0]}/{by_speed[min(above)][1]}" if above else "–"
         result.append(row)
     return pd.DataFrame(result, columns=columns)
 

@@ -44,14 +44,15 @@ def test_the_search_ends_at_the_ladders_top_or_bottom():
 
 
 def fake_walk(item):
-    """A walk that succeeds at speeds up to the controller's threshold (module level: it
-    runs in a worker process)."""
-    controller, sim, speed, _ = item
-    ok = speed <= THRESHOLDS[controller] + 1e-12
+    """A walk that succeeds at speeds up to the controller's threshold, less 0.01 m/s per
+    replica after the first (module level: it runs in a worker process)."""
+    controller, sim, speed, _, replica = item
+    ok = speed <= THRESHOLDS[controller] - 0.01 * replica + 1e-12
     return {
         "controller": controller,
         "sim": sim,
         "speed_command_mps": speed,
+        "replica": replica,
         "status": "ok" if ok else "fell",
         "e_com": speed / 10,
         "e_zmp": speed / 5,
@@ -67,12 +68,48 @@ def test_rounds_in_workers_give_the_table_in_the_papers_shape():
     )
     table = speed_table(trials).set_index("controller")
     assert table.loc["steady", "v_ref_mps"] == pytest.approx(0.37)
+    assert table.loc["steady", "v_fell_mps"] == pytest.approx(0.38)  # the bracket's top
+    assert math.isnan(table.loc["fast", "v_fell_mps"])  # walked the ladder's top
+    assert table.loc["clumsy", "v_fell_mps"] == pytest.approx(0.01)
     assert table.loc["steady", "e_c"] == pytest.approx(0.037)
     assert table.loc["steady", "v_mps"] == pytest.approx(0.333)
     assert table.loc["fast", "v_ref_mps"] == pytest.approx(0.6)
     assert math.isnan(table.loc["clumsy", "v_ref_mps"])
     assert table["walks"].sum() == len(trials)
     assert speed_table(pd.DataFrame()).empty
+
+
+def test_with_replicas_a_speed_is_walked_when_4_of_5_walk_it_and_the_table_says_how_sure():
+    """Replica r of the fake walks up to the threshold less 0.01 r: 4 of 5 walk up to the
+    threshold less 0.03 m/s, which the search finds on its 0.01 grid; one walk per replica at
+    every speed tried; the table's quality is replica 0's there, with 4/5 at it and fewer
+    above."""
+    protocol = SpeedProtocol(maximum=0.6, replicas=5)
+    assert protocol.required == 4
+    trials = run_speed_protocol(
+        ["steady"], ["mujoco"], protocol, workers=2, work=fake_walk, progress=False
+    )
+    assert len(trials) % 5 == 0
+    assert (trials.groupby("speed_command_mps")["replica"].nunique() == 5).all()
+    assert set(trials["replicas_required"]) == {4}
+    row = speed_table(trials).set_index("controller").loc["steady"]
+    assert row["v_ref_mps"] == pytest.approx(0.34)
+    assert row["e_c"] == pytest.approx(0.034)  # replica 0's walk at 0.34 m/s
+    assert row["at v_ref"] == "4/5"
+    assert int(row["above"].split("/")[0]) < 4
+    # one replica: the search as before, and the table without the two columns
+    single = run_speed_protocol(
+        ["steady"],
+        ["mujoco"],
+        SpeedProtocol(maximum=0.6),
+        workers=2,
+        work=fake_walk,
+        progress=False,
+    )
+    assert speed_table(single).iloc[0]["v_ref_mps"] == pytest.approx(0.37)
+    assert "at v_ref" not in speed_table(single).columns
+    with pytest.raises(ValueError, match="replicas"):
+        SpeedProtocol(replicas=0)
 
 
 @pytest.mark.parametrize("speed", [0.1, 0.15])
@@ -115,6 +152,9 @@ def test_the_speed_commands_flags_set_the_protocol(monkeypatch, tmp_path):
     assert main([*argv, "--increment", "0.1", "--resolution", "0.05"]) == 0
     assert seen[-1] == SpeedProtocol(start=0.1, increment=0.1, resolution=0.05)
     assert main([*argv, "--resolution", "0.1"]) == 2  # coarser than the ladder: refused
+    assert main([*argv, "--replicas", "5"]) == 0
+    assert seen[-1].replicas == 5
+    assert main([*argv, "--replicas", "0"]) == 2
     assert main([*argv[:2], "all,direct_centroidal/leaky", *argv[3:]]) == 0
     from bench.controllers import CONTROLLERS
 

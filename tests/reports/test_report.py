@@ -122,7 +122,13 @@ def test_survival_table_counts_the_fixture(results):
     assert list(table["controller"]) == ["a+x", "a+x", "b+y", "b+y"]
     assert list(table["sim"]) == ["mujoco", "pybullet"] * 2
     labels = [tables.level_label(dv, MASS * dv) for dv in LEVELS]
-    assert list(table.columns) == ["controller", "sim", *labels, "not judged"]
+    assert list(table.columns) == [
+        "controller",
+        "sim",
+        *labels,
+        "not judged",
+        "fell before the push",
+    ]
     assert labels == ["0.2 m/s (10.0 N s)", "0.4 m/s (20.0 N s)"]
     for _, row in table.iterrows():
         expected = SURVIVED[(row["controller"], row["sim"])]
@@ -381,10 +387,13 @@ def test_the_maximum_speed_table_joins_the_report_when_its_walks_are_there(resul
         for line in section.splitlines()
         if line.startswith(("| a+x", "| b+y"))
     }
-    # sim, v_ref, v, e_c, e_z, e_v, walks: at the highest speed walked, not the one that fell
-    assert rows["a+x"] == ["mujoco", "0.1", "0.097", "0.25", "0.75", "1.5", "3"]
-    assert rows["b+y"][1:6] == ["–"] * 5  # walked at no speed: the report's empty cell
-    assert rows["b+y"][6] == "1"
+    # sim, v_ref, v_fell, v, e_c, e_z, e_v, walks: at the highest speed walked, not the one
+    # that fell, which bounds the answer from above
+    assert rows["a+x"] == ["mujoco", "0.1", "0.15", "0.097", "0.25", "0.75", "1.5", "3"]
+    assert rows["b+y"][2] == "0.05"  # walked at no speed: the lowest it tried fell
+    assert rows["b+y"][1] == "–"  # the report's empty cell
+    assert rows["b+y"][3:7] == ["–"] * 4
+    assert rows["b+y"][7] == "1"
 
 
 def test_latency_against_the_papers_figures_for_the_controllers_that_have_one():

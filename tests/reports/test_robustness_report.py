@@ -280,3 +280,89 @@ def test_pushes_are_paired_by_seed_too():
     row = table.iloc[0]
     assert (row["pushes"], row["only A"], row["only B"]) == (6, 3, 3)
     assert row["p"] == pytest.approx(1.0)
+
+
+def _pushes_with_an_early_fall() -> pd.DataFrame:
+    """Two controllers on 6 standing pushes at 1.5 s: "steady" survives 4; "shaky" falls
+    before the push in 3 (at 0.7 s) and survives 1 of the 3 it receives."""
+    rows = []
+    for index in range(6):
+        rows.append(_push("steady", "mujoco", 0.3, index, index < 4, push_time_s=1.5))
+        early = index < 3
+        row = _push(
+            "shaky",
+            "mujoco",
+            0.3,
+            index,
+            index == 3,
+            push_time_s=1.5,
+            fall_time=0.7 if early else (None if index == 3 else 2.4),
+        )
+        rows.append(row)
+    return pd.DataFrame(rows)
+
+
+def test_a_robot_that_fell_before_its_push_is_not_counted_as_a_push_not_survived():
+    """A controller that cannot stand to the push says nothing of push recovery: its early
+    falls are counted apart in the survival tables and left out of the paired tests (before
+    2026-11-28 they read 0/20 and won the other controllers significant paired tests)."""
+    episodes = _pushes_with_an_early_fall()
+    rates = tables.survival_rates(episodes, "standing").set_index("controller")
+    assert (rates.loc["shaky", "survived"], rates.loc["shaky", "pushes"]) == (1, 3)
+    assert rates.loc["shaky", "before_push"] == 3
+    assert (rates.loc["steady", "survived"], rates.loc["steady", "pushes"]) == (4, 6)
+    table = tables.survival_table(episodes, "standing").set_index("controller")
+    assert table.loc["shaky", "fell before the push"] == 3
+    assert table.loc["steady", "fell before the push"] == ""
+    headline = robustness.headline_survival(episodes).set_index("controller")
+    assert headline.loc["shaky", "mujoco"] == fraction_cell(1, 3) + ", 3 fell before the push"
+    paired = robustness.paired_comparisons(episodes, "standing").iloc[0]
+    assert (paired["pushes"], paired["only A"], paired["only B"]) == (3, 0, 0)  # 3, 4, 5
+
+
+def test_paired_comparisons_give_the_false_discovery_rate_of_the_tables_tests():
+    """q (Benjamini-Hochberg) is at least p, and is scipy's over all of the table's p."""
+    table = robustness.paired_comparisons(pd.DataFrame(fixture_rows()), "standing")
+    assert len(table) > 1
+    assert (table["q (BH)"] >= table["p"] - 1e-15).all()
+    expected = stats.false_discovery_control(table["p"].to_numpy(), method="bh")
+    assert table["q (BH)"].to_numpy() == pytest.approx(expected)
+
+
+def test_a_levels_impulse_is_the_robots_or_the_range_over_the_robots():
+    """J = m dv differs between robots of different mass: one robot, its J; several, their
+    range (the header gave their mean before 2026-11-28, no robot's impulse)."""
+    assert tables.level_label(0.35, 20.44) == "0.35 m/s (20.4 N s)"
+    assert tables.level_label(0.35, 20.44, 21.84) == "0.35 m/s (20.4-21.8 N s)"
+    assert tables.level_label(0.35, 20.44, 20.44) == "0.35 m/s (20.4 N s)"
+    rows = [_push("a", "mujoco", 0.35, 0, True, robot="h"), _push("a @ j", "mujoco", 0.35, 0, True)]
+    rows[0]["push_impulse_Ns"], rows[1]["push_impulse_Ns"] = 20.44, 21.84
+    table = tables.survival_table(pd.DataFrame(rows), "standing")
+    assert "0.35 m/s (20.4-21.8 N s)" in table.columns
+
+
+def test_a_controller_given_another_estimator_says_so_in_its_label():
+    """The hierarchy runs with a perfect state, Ficht & Behnke with their own filter: the
+    report's tables name that estimator beside the controller; the default one is not named."""
+    from estimators import DEFAULT_ESTIMATOR
+    from reports.build import label_estimators, label_robots
+
+    rows = pd.DataFrame(
+        [
+            _push("capturability_hierarchy", "mujoco", 0.3, 0, True, estimator="ground_truth"),
+            _push("preview_control+x", "mujoco", 0.3, 0, True, estimator=DEFAULT_ESTIMATOR),
+            _push("preview_control+x", "mujoco", 0.3, 1, True, estimator="ground_truth"),
+        ]
+    )
+    labels = list(label_robots(label_estimators(rows))["controller"])
+    assert labels == [
+        "capturability_hierarchy [ground_truth]",
+        "preview_control+x",
+        "preview_control+x [ground_truth]",
+    ]
+    headline = robustness.headline_survival(label_estimators(rows))
+    assert set(headline["controller"]) == {
+        "capturability_hierarchy [ground_truth]",
+        "preview_control+x",
+        "preview_control+x [ground_truth]",
+    }
