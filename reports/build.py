@@ -184,8 +184,10 @@ def sections(
     result += [
         (
             "Episodes by status",
-            "Every episode of the sweep, by how it ended (ok, fell, error: the controller or "
-            "the simulator failed, timeout: past its wall-clock budget).",
+            "Every episode of the sweep, by how it ended (ok; fell; error: the controller or "
+            "the simulator failed; timeout: past its wall-clock budget; n/a: the controller "
+            "cannot run the scenario and was not run). A column appears when an episode "
+            "ended so.",
             tables.status_table(episodes),
         ),
         (
@@ -343,7 +345,9 @@ def _headline_sections(
                 "From the nominal walk: the control time per 2 ms period (estimator, planner, "
                 "stabilizer, whole-body layer) [µs], median and p99, beside the simulator "
                 "engine's own step for the same period in the same run, and the stages' "
-                "medians.",
+                "medians; a controller without a walk from the median over its other "
+                "episodes (`from` names their scenarios). One episode's median per cell: "
+                "this machine's speed varies by up to 1.3x within a session.",
                 cost,
             )
         )

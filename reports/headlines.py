@@ -105,9 +105,20 @@ def cost_table(episodes: pd.DataFrame) -> pd.DataFrame:
     (estimator, planner, stabilizer, whole-body layer) [µs], median and p99, the simulator
     engine's own step for the same period (`sim_engine`, median [µs]) and their ratio (the
     control's cost in engine steps, measured side by side in the same run), and each
-    stage's median [µs]."""
-    rows = nominal(episodes)
-    rows = rows[(rows["scenario"] == "walk") & rows["push_phase"].isna()]
+    stage's median [µs]. A controller without a walk (Sherikov et al.'s hierarchy, in the
+    main job) is given from the median over its other nominal episodes, and `from` names
+    them; the others' rows come from "walk"."""
+    everything = nominal(episodes)
+    rows = everything[(everything["scenario"] == "walk") & everything["push_phase"].isna()]
+    missing = ~everything.set_index(KEYS).index.isin(rows.set_index(KEYS).index)
+    others = everything[missing]
+    source = pd.concat(
+        [
+            rows.assign(**{"from": "walk"}),
+            others.assign(**{"from": others["scenario"].astype(str)}),
+        ]
+    )
+    rows = source
     columns = {
         "control median µs": "lat_control_total_median_us",
         "control p99 µs": "lat_control_total_p99_us",
@@ -117,10 +128,12 @@ def cost_table(episodes: pd.DataFrame) -> pd.DataFrame:
         "stabilizer µs": "lat_stabilizer_median_us",
         "whole-body µs": "lat_whole_body_median_us",
     }
-    rows = rows.reindex(columns=[*KEYS, *columns.values()])
+    rows = rows.reindex(columns=[*KEYS, "from", *columns.values()])
     table = rows.groupby(KEYS, sort=True)[list(columns.values())].median()
     table.columns = list(columns)
     table.insert(3, "control / engine", table["control median µs"] / table["engine median µs"])
+    sources = rows.groupby(KEYS, sort=True)["from"].agg(lambda s: ", ".join(sorted(set(s))))
+    table.insert(0, "from", sources)
     return table.reset_index()
 
 
