@@ -656,7 +656,9 @@ def _reach_figures(
     reach_traces: dict[str, tuple[pd.Series, pd.DataFrame, pd.DataFrame | None]], out: Path
 ) -> list[tuple[str, Path]]:
     """Sherikov et al. 2014 Figs. 3 and 2 for each reach episode with a trace: the top view of
-    the CoM, hand, target and steps taken, and the hierarchy's solve time and iterations."""
+    the CoM, hand, target and steps taken, and the hierarchy's solve time and iterations (only
+    for an episode whose trace has solve times: a controller without the hierarchy has none,
+    and its figure was an empty plot)."""
     figures = []
     for episode_id, (row, trace, steps) in reach_traces.items():
         scale = row.get("scale")
@@ -682,6 +684,10 @@ def _reach_figures(
                 ),
             )
         )
+        column = plots.HIERARCHY_TIME_COLUMN
+        solve = trace[column] if column in trace else pd.Series(dtype=float)
+        if not solve.notna().any():
+            continue
         figures.append(
             (
                 f"Reaching, solve time (Sherikov Fig. 2): {label}",

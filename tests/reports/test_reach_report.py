@@ -323,3 +323,16 @@ def test_no_reaching_section_without_reach_episodes(reach_results, tmp_path):
     markdown = (tmp_path / "report" / "report.md").read_text()
     assert "Reaching tests" not in markdown
     assert "walk.png" in {p.name for p in paths}
+
+
+def test_a_reach_without_solve_times_gets_its_top_view_and_no_empty_solve_figure(tmp_path):
+    """A controller without the hierarchy records no solve times: its reach has Fig. 3's
+    top view, and no Fig. 2 (it was an empty plot: 28 of the main job's 32)."""
+    root = tmp_path / "results"
+    store = ResultStore(root)
+    store.prepare({"name": "reach"}, "digest", resume=False, overwrite=False)
+    trace = _trace().drop(columns=[plots.HIERARCHY_TIME_COLUMN])
+    store.write(_episode("q1", "reach", "ok", 0.5, controller="a+x"), trace, _footsteps())
+    names = {p.name for p in build_report(root, tmp_path / "report")}
+    assert "reach_q1_top.png" in names
+    assert "reach_q1_solve.png" not in names
