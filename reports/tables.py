@@ -314,7 +314,8 @@ def speed_table(trials: pd.DataFrame) -> pd.DataFrame:
     [m/s], e_c [m s], e_z [m s], e_v [m/s] of eq. 18 there, and how many walks the search
     took. With replicas
     (`replica`, `replicas_required` from `centrobench speed --replicas`) a speed is walked
-    when at least the required replicas walked it, the quality is replica 0's, and two more
+    when at least the required replicas walked it, the quality is that of the first replica
+    that walked it (replica 0, unless it fell), and two more
     columns say how sure the answer is: "at v_ref", the replicas that walked the speed found,
     and "above", those that walked the lowest speed tried above it ("k/n")."""
     columns = [*KEYS, "v_ref_mps", "v_fell_mps", "v_mps", "e_c", "e_z", "e_v", "walks"]
@@ -341,7 +342,9 @@ def speed_table(trials: pd.DataFrame) -> pd.DataFrame:
             row.update(v_ref_mps=math.nan, v_mps=math.nan, e_c=math.nan, e_z=math.nan, e_v=math.nan)
         else:
             v_ref = max(walked_speeds)
-            first = group[(group["speed_command_mps"] == v_ref) & (replica == 0)].iloc[0]
+            at_v_ref = group[group["speed_command_mps"] == v_ref].assign(replica=replica)
+            walked_there = at_v_ref[at_v_ref["status"] == "ok"].sort_values("replica")
+            first = walked_there.iloc[0]  # replica 0's walk, or the first replica that walked
             row.update(
                 v_ref_mps=v_ref,
                 v_mps=first.get("speed_walked_mps"),

@@ -219,3 +219,29 @@ def test_only_the_five_mass_gait_s_walks_are_longer_and_counted_after_its_start(
     assert seen["duration"] == pytest.approx(1.0 + 12 * 0.9 + 1.5 + longer_s)
     if longer_s == 0.0:
         assert row["speed_walked_mps"] == pytest.approx(0.75)
+
+
+def test_with_replicas_the_quality_is_that_of_a_walk_that_walked():
+    """At the speed found, replica 0 may be the one of five that fell (measured: the linear
+    MPC at 0.3 m/s in MuJoCo, 2026-11-28): eq. 18's errors then come from the first replica
+    that walked, not from the fall."""
+    rows = [
+        {
+            "controller": "c",
+            "sim": "mujoco",
+            "speed_command_mps": 0.3,
+            "replica": r,
+            "status": "fell" if r == 0 else "ok",
+            "e_com": 0.5 if r == 0 else 0.01 * r,
+            "e_zmp": 0.1,
+            "e_velocity": 0.1,
+            "speed_walked_mps": 0.3,
+            "replicas_required": 4,
+        }
+        for r in range(5)
+    ]
+    row = speed_table(pd.DataFrame(rows)).iloc[0]
+    assert row["v_ref_mps"] == pytest.approx(0.3)
+    assert row["e_c"] == pytest.approx(0.01)  # replica 1's
+    assert row["at v_ref"] == "4/5"
+    assert math.isnan(row["v_fell_mps"])
