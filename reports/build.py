@@ -510,7 +510,7 @@ def build_report(
         if (stats := tables.solve_time_stats(trace, plots.HIERARCHY_TIME_COLUMN))
     }
     trials = [t for t in (_speed_trials(root, notes) for root in roots) if t is not None]
-    speed = pd.concat(trials, ignore_index=True) if trials else None
+    speed = label_estimators(pd.concat(trials, ignore_index=True)) if trials else None
     parts = sections(episodes, benchmark, survival_time_s(record), solve_times, speed)
     parts = [
         (title, text, _with_replay_files(table, out) if title == "Replays" else table)

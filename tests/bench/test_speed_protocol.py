@@ -122,6 +122,8 @@ def test_a_walk_at_a_commanded_speed_reaches_it(speed):
     then, it was +4.0 and +7.7 % (0.15 m/s a strict xfail), after +1.1 and +4.7 %."""
     row = speed_episode(("direct_centroidal/bent_no_inertia", "mujoco", speed, 12))
     assert row["status"] == "ok"
+    assert row["estimator"] == "five_mass_kalman"  # its own, as the sweep's episodes record
+    assert row["git_commit"]  # provenance, as every sweep row has
     assert row["e_com"] > 0
     assert row["speed_walked_mps"] == pytest.approx(speed, rel=0.05)
 
