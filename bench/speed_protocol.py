@@ -20,7 +20,8 @@ others each with a small seeded change (`bench.runner.replica_changes`: a horizo
 base velocity of sigma 1 cm/s), and a speed counts as walked when at least `required` of them
 walk: R - R // 5, 4 of 5 as the push protocol's robust thresholds (DESIGN.md: "replicate each
 magnitude"); the search is then on those outcomes. The walking quality at the speed found is
-replica 0's.
+that of the first replica that walked it (replica 0's unless it fell; `reports.tables.
+speed_table`).
 """
 
 from __future__ import annotations

@@ -112,13 +112,12 @@ def cost_table(episodes: pd.DataFrame) -> pd.DataFrame:
     rows = everything[(everything["scenario"] == "walk") & everything["push_phase"].isna()]
     missing = ~everything.set_index(KEYS).index.isin(rows.set_index(KEYS).index)
     others = everything[missing]
-    source = pd.concat(
+    rows = pd.concat(
         [
             rows.assign(**{"from": "walk"}),
             others.assign(**{"from": others["scenario"].astype(str)}),
         ]
     )
-    rows = source
     columns = {
         "control median µs": "lat_control_total_median_us",
         "control p99 µs": "lat_control_total_p99_us",

@@ -60,9 +60,9 @@ def ended_before_push(rows: pd.DataFrame) -> pd.Series:
     if "push_time_s" not in rows:
         return pd.Series(False, index=rows.index)
     push = rows["push_time_s"]
-    fell = (rows["status"] == "fell") & (rows["fall_time"] < push)
-    duration = rows["duration"] if "duration" in rows else pd.Series(float("nan"), rows.index)
-    failed = controller_failed(rows) & (duration < push)
+    missing = pd.Series(float("nan"), index=rows.index)
+    fell = (rows["status"] == "fell") & (rows.get("fall_time", missing) < push)
+    failed = controller_failed(rows) & (rows.get("duration", missing) < push)
     return (fell | failed).fillna(False).astype(bool)
 
 

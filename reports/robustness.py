@@ -289,8 +289,9 @@ def headline_survival(episodes: pd.DataFrame) -> pd.DataFrame:
             row = {"controller": controller, "phase": phase}
             rates = {}
             for sim, runs in group.groupby("sim", sort=True):
-                before = int(ended_before_push(runs).sum())
-                runs = runs[~ended_before_push(runs)]
+                early = ended_before_push(runs)
+                before = int(early.sum())
+                runs = runs[~early]
                 alive = runs["survived"].fillna(False).astype(bool)
                 cell = fraction_cell(int(alive.sum()), len(alive)) if len(alive) else ""
                 note = f"{before} fell before the push" if before else ""

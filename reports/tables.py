@@ -312,12 +312,11 @@ def speed_table(trials: pd.DataFrame) -> pd.DataFrame:
     (NaN: none), the lowest speed tried above it, which was not walked (`v_fell_mps`, NaN:
     none; the answer lies between the two), the mean speed walked there over the steady steps
     [m/s], e_c [m s], e_z [m s], e_v [m/s] of eq. 18 there, and how many walks the search
-    took. With replicas
-    (`replica`, `replicas_required` from `centrobench speed --replicas`) a speed is walked
-    when at least the required replicas walked it, the quality is that of the first replica
-    that walked it (replica 0, unless it fell), and two more
-    columns say how sure the answer is: "at v_ref", the replicas that walked the speed found,
-    and "above", those that walked the lowest speed tried above it ("k/n")."""
+    took. With replicas (`replica`, `replicas_required` from `centrobench speed --replicas`)
+    a speed is walked when at least the required replicas walked it, the quality is that of
+    the first replica that walked it (replica 0, unless it fell), and two more columns say how
+    sure the answer is: "at v_ref", the replicas that walked the speed found, and "above",
+    those that walked the lowest speed tried above it ("k/n")."""
     columns = [*KEYS, "v_ref_mps", "v_fell_mps", "v_mps", "e_c", "e_z", "e_v", "walks"]
     replicated = "replica" in trials.columns and trials["replica"].fillna(0).max() > 0
     if replicated:
