@@ -115,6 +115,7 @@ ROW_SCHEMA = pa.schema(
         ("touchdown_position_error_mean_m", _FLOAT),
         ("final_yaw_error_rad", _FLOAT),
         ("hand_error_final_m", _FLOAT),
+        ("hand_task", _BOOL),
         ("angular_momentum_error_base_vs_constant", _FLOAT),
         ("angular_momentum_error_all_vs_constant", _FLOAT),
         ("angular_momentum_error_constant_vs_euler", _FLOAT),
@@ -128,6 +129,7 @@ ROW_SCHEMA = pa.schema(
         ("e_velocity", _FLOAT),
         *[(f"lat_{s}_median_us", _FLOAT) for s in LATENCY_STAGES],
         *[(f"lat_{s}_p99_us", _FLOAT) for s in LATENCY_STAGES],
+        ("timed_from_s", _FLOAT),
         ("has_trace", _BOOL),
         ("centrobench_version", _STRING),
         ("versions_json", _STRING),
@@ -140,7 +142,7 @@ ROW_SCHEMA = pa.schema(
 TIMING_COLUMNS = tuple(
     name
     for name in ROW_SCHEMA.names
-    if name.startswith("lat_") or name in ("wall_s", "real_time_factor", "worker")
+    if name.startswith("lat_") or name in ("wall_s", "real_time_factor", "worker", "timed_from_s")
 )
 
 
@@ -192,6 +194,8 @@ def summary_row(
         "touchdown_position_error_mean_m",
         "final_yaw_error_rad",
         "hand_error_final_m",
+        "hand_task",
+        "timed_from_s",
         "torque_share_max",
         "torque_share_joint",
         "torque_saturated_fraction",

@@ -13,7 +13,8 @@ active at the period's start (NaN while none is; no column in scenarios without 
 from the same forward-kinematics pass as the centre of mass, with the two points it is the
 distance between: `hand_actual_{x,y,z}` (that palm position) and `hand_target_{x,y,z}` (the
 target, NaN while none is). `hand_error_final_m` in the summary is the last period's (None
-without targets, or with none active at the end).
+without targets, or with none active at the end); `hand_task` says whether the planner drives
+the hand to them (`Planner.tracks_hand_targets`; None without targets).
 """
 
 from __future__ import annotations
@@ -301,6 +302,12 @@ def _run_episode(
     (`base_position_true_*`, `base_orientation_true_{w,x,y,z}`, `q_true_<joint>`), for a
     replay (`bench.replay`).
 
+    Timing (`latency_us`, `latency_by_contacts_us`) is over the periods this process ran:
+    `timed_from_s` in the summary is 0 for an episode run alone, the push time for a branch of
+    a group (`brancher`: the periods before were run once for the group, and every branch
+    holds a copy of their timings), and None for a group that ended before its push (every
+    episode of it the one run's copy).
+
     `progress` (two floats, for example shared memory that a sweep's parent process reads
     when an episode overruns its wall-clock budget): [0] the index in `PROGRESS_STAGES` of the
     stage running now, [1] the simulated time [s] of the current period."""
@@ -344,9 +351,11 @@ def _run_episode(
         "touchdown_position_error_mean_m": None,
         "final_yaw_error_rad": None,
         "hand_error_final_m": None,
+        "hand_task": None,
         "angular_momentum_error": None,
         **TorqueUse((), np.zeros(0)).summary(),
         "latency_by_contacts_us": {},
+        "timed_from_s": 0.0 if brancher is None else None,
         "replica": spec.replica,
         **(spec.perturbation or NOMINAL).columns(),
     }
@@ -369,6 +378,8 @@ def _run_episode(
         hand_frame = None if hand_limb is None else robot.limb(hand_limb).contact_frame
         dt = scene.control_dt
         planner = planner_spec(spec.planner).factory(dt)
+        if hand_limb is not None:  # whether the hand error is that of a driven hand
+            summary["hand_task"] = bool(getattr(planner, "tracks_hand_targets", False))
         stabilizer = stabilizer_spec(spec.stabilizer).factory(dt)
         estimator = make_estimator(spec.estimator, model)
         whole_body = make_whole_body(spec.whole_body, model, dt)
@@ -428,6 +439,7 @@ def _run_episode(
                 # a copy of this process per episode of the group; the parent leaves the loop
                 pending = brancher.split(time.perf_counter() - call_start)
                 wall_start += brancher.waited_s
+                summary["timed_from_s"] = t  # the periods before are the group's, not its own
             while pending and pending[0].time < t + dt / 2:
                 push = pending.pop(0)
                 sim.push(push.link, np.array(push.impulse_world), push.duration)
@@ -525,8 +537,10 @@ def _run_episode(
     simulated = trace.n * dt
     summary["duration"] = simulated
     summary["real_time_factor"] = simulated / wall if wall > 0 else None
-    summary["latency_us"] = _latency(frame)
-    summary["latency_by_contacts_us"] = _latency_by_contacts(frame)
+    # the periods this process timed: a branch's own, from its split on (`timed_from_s`)
+    timed = frame.iloc[round((summary["timed_from_s"] or 0.0) / dt) :]
+    summary["latency_us"] = _latency(timed)
+    summary["latency_by_contacts_us"] = _latency_by_contacts(timed)
     if len(frame):
         error = (
             frame[["com_actual_x", "com_actual_y", "com_actual_z"]].to_numpy()
@@ -731,13 +745,15 @@ def _record(
         if name in CONTROL_STAGES:
             control += ns
     put("t_control_total_us", control / 1e3)
-    centroidal = 0
+    centroidal, staged = 0, False
     for source in (plan.timings_ns, targets.timings_ns or {}):
         for name, ns in source.items():
             put(column(name), ns / 1e3)
             if name in CENTROIDAL_STAGES:
                 centroidal += ns
-    put("t_centroidal_total_us", centroidal / 1e3)
+                staged = True
+    # a controller without Murooka's stages has no Table IV sum (not a sum of 0 µs)
+    put("t_centroidal_total_us", centroidal / 1e3 if staged else math.nan)
     # Murooka Table IV's "Total control": the whole centroidal control (planner and stabilizer:
     # the four rows above plus the feedback, the damping and all between), not the estimator
     # or the whole-body layer ("only the proposed centroidal control is included")

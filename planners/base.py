@@ -16,6 +16,10 @@ class Planner(Protocol):
     """Whether the plan's wrench_projected_world is a projection of its wrench_planned_world
     onto the contacts' wrench cones (Murooka eqs. 9-10); otherwise the two are the same wrench
     and the runner records no planned projection error (Sec. V-G) for the episode."""
+    tracks_hand_targets: bool
+    """Whether the planner drives a hand to the scenario's hand targets (Sherikov et al. 2014,
+    eq. 17); otherwise the runner records `hand_task` False in a scenario with targets, and a
+    reach's hand error says where the hand stayed, not how well it was driven."""
 
     def reset(self, robot: RobotModel, scenario: Scenario, state: RobotState) -> None: ...
     def plan(self, t: float, state: RobotState) -> CentroidalPlan: ...

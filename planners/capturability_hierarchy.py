@@ -221,6 +221,7 @@ class _Rows:
 class CapturabilityHierarchyPlanner:
     name = "capturability_hierarchy"
     projects_wrench = False
+    tracks_hand_targets = True
 
     def __init__(self, dt: float) -> None:
         self.dt = dt

@@ -125,6 +125,7 @@ class _Foothold:
 class FiveMassGaitPlanner:
     name = "five_mass_gait"
     projects_wrench = False
+    tracks_hand_targets = False
 
     def __init__(self, dt: float, options: SteppingOptions | None = None) -> None:
         self.dt = dt
@@ -491,7 +492,8 @@ class FiveMassGaitPlanner:
             contact_limbs=contacts,
             limb_target_position_world=positions,
             limb_target_orientation_world=orientations,
-            timings_ns={"reference": time.perf_counter_ns() - start},
+            # the whole plan: not Murooka Table IV's "calculate reference" stage
+            timings_ns={"plan": time.perf_counter_ns() - start},
             limb_tracked=tracked,
             footsteps=footsteps,
             inertia_axes_reference_world=axes,

@@ -38,6 +38,7 @@ from robots.types import CentroidalPlan, RobotState
 class HoldPlanner:
     name = "hold"
     projects_wrench = False
+    tracks_hand_targets = False
 
     def __init__(self, dt: float) -> None:
         self.dt = dt
@@ -96,7 +97,8 @@ class HoldPlanner:
             footsteps=self.schedule.upcoming(t),
             limb_target_position_world=position,
             limb_target_orientation_world=orientation,
-            timings_ns={"reference": time.perf_counter_ns() - start},
+            # the whole plan: not Murooka Table IV's "calculate reference" stage
+            timings_ns={"plan": time.perf_counter_ns() - start},
             limb_tracked=tracked,
         )
 

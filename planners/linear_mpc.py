@@ -54,6 +54,7 @@ REFERENCE_DT = 0.005  # [s] grid on which the CoM reference is precomputed
 class LinearMpcPlanner:
     name = "linear_mpc"
     projects_wrench = True
+    tracks_hand_targets = False
 
     def __init__(
         self,

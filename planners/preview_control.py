@@ -65,6 +65,7 @@ TABLE_I = {
 class PreviewControlPlanner:
     name = "preview_control"
     projects_wrench = True
+    tracks_hand_targets = False
 
     def __init__(
         self,

@@ -104,6 +104,7 @@ def _inward_shift(contacts: tuple[Contact, ...], inward_m: float) -> np.ndarray:
 class PreviewZmpPlanner:
     name = "preview_zmp"
     projects_wrench = True
+    tracks_hand_targets = False
 
     def __init__(self, dt: float, projection_backend: str = DEFAULT_BACKEND) -> None:
         self.dt = dt

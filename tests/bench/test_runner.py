@@ -322,6 +322,18 @@ def test_hand_error_is_the_true_palm_distance_to_the_target(monkeypatch):
         target = scenario.hand_target_at("right_hand", trace["time"].iloc[k])
         assert error[k] == pytest.approx(np.linalg.norm(target - palm), abs=1e-12)
     assert summary["hand_error_final_m"] == error[-1]
+    assert summary["hand_task"] is False  # hold drives no hand: its error is where it stayed
+
+
+def test_hand_task_is_the_planners_flag():
+    """The summary's `hand_task` is the planner's `tracks_hand_targets`: true only for the
+    planner that drives the hand (Sherikov's hierarchy), in a scenario with targets."""
+    from planners.base import PLANNERS
+
+    flags = {
+        name: PLANNERS.get(name).factory(0.002).tracks_hand_targets for name in PLANNERS.names()
+    }
+    assert {name for name, flag in flags.items() if flag} == {"capturability_hierarchy"}
 
 
 def test_no_hand_error_without_hand_targets():
@@ -329,4 +341,17 @@ def test_no_hand_error_without_hand_targets():
     assert result.summary["status"] == "ok"
     assert "hand_error_m" not in result.trace
     assert result.summary["hand_error_final_m"] is None
+    assert result.summary["hand_task"] is None
     json.dumps(summary_json_ready(result.summary))
+
+
+def test_a_planner_without_murookas_stages_has_no_table_iv_rows():
+    """Table IV's "calculate reference" and the sum of its four stages belong to Murooka's
+    planners: hold (and Ficht & Behnke's gait) time their whole plan as the planner's stage,
+    so that the report does not show it as Murooka's reference row, nor a 0 µs sum."""
+    result = run_episode(EpisodeSpec("hold", "posture", "mujoco", "stand", duration=0.1))
+    latency = result.summary["latency_us"]
+    assert result.summary["status"] == "ok"
+    assert latency["planner"]["median"] > 0
+    assert "reference" not in latency
+    assert "centroidal_total" not in latency
