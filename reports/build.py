@@ -180,7 +180,7 @@ def sections(
     question, `reports.headlines`), then the details; `survival_time` [s] is the spec's;
     `solve_times` the hierarchy's solve times of the reach episodes with a stored trace
     (`tables.reach_table`); `speed` the maximum-speed protocol's walks (`centrobench speed`)."""
-    result = _headline_sections(episodes, speed)
+    result = _headline_sections(episodes, speed, survival_time)
     result += [
         (
             "Episodes by status",
@@ -195,15 +195,16 @@ def sections(
             "Median and p99 per control period [µs] in each walk: Table IV's rows (Total "
             "control = centroidal_control, the planner and the stabilizer with the feedback "
             "and damping; reference, preview, projection, distribution and centroidal_total, "
-            "their sum) and the loop's stages.",
+            "their sum; – where a controller has no such stage). The loop's stages are in §4.",
             _latency_cells(tables.latency_table(episodes)),
         ),
         (
             "Latency against the papers' figures",
-            "Median control time per period [µs] in each walk (estimator, planner, stabilizer, "
-            "whole-body layer) against the paper's own figure for its whole loop (Ficht & "
-            "Behnke: 143 µs on the robot's computer at 100 Hz; ours run at 500 Hz), and the "
-            "ratio. Only controllers whose paper gives one.",
+            "Control time per period [µs] (estimator, planner, stabilizer, whole-body "
+            "layer; the median over the controller's walks, pushed or not, of each one's "
+            "median, with its 95 % interval and n, as in §4) against the paper's own figure "
+            "for its whole loop (Ficht & Behnke: 143 µs on the robot's computer at 100 Hz; "
+            "ours run at 500 Hz), and the ratio. Only controllers whose paper gives one.",
             tables.paper_latency_table(episodes),
         ),
         (
@@ -216,7 +217,7 @@ def sections(
     ]
     for phase in ("standing", "walking"):
         table = tables.survival_table(episodes, phase)
-        if len(table):
+        if tables.level_count(episodes, phase) > 1:  # with one level, §1 is this table
             result.append(
                 (
                     f"Push survival, {phase} (Ficht & Behnke Table 2)",
@@ -290,7 +291,7 @@ def sections(
 
 
 def _headline_sections(
-    episodes: pd.DataFrame, speed: pd.DataFrame | None
+    episodes: pd.DataFrame, speed: pd.DataFrame | None, survival_time: float
 ) -> list[tuple[str, str, pd.DataFrame]]:
     """One table per question (`reports.headlines`), those with something to show."""
     result = []
@@ -299,9 +300,16 @@ def _headline_sections(
         result.append(
             (
                 "1. Which pushes each controller survives",
-                "Per controller and push phase: the protocol's pushes survived over all levels "
-                "in each simulator, with the 95 % Wilson interval, and the band between the two "
-                "simulators' rates [%] (per level: the push survival tables below).",
+                "Per controller and push phase: the protocol's pushes (levels: the velocity "
+                "change dv = J / m and the impulse J the robot was given) survived over all "
+                "levels in each simulator, with the 95 % Wilson interval, and the band between "
+                "the two simulators' rates [%]. A push to the torso for 0.1 s from a direction "
+                "drawn uniformly on the circle (the same directions for every controller); "
+                f"survived: no fall within {survival_time:g} s after it. Counted apart: the "
+                "episodes in which the robot fell before the push came (they say nothing of "
+                "push recovery) and those not judged (an error of the set-up, simulator or "
+                "worker, or a timeout; a controller's own failure counts as not surviving). "
+                "With several levels, the push survival tables below give each.",
                 survival,
             )
         )
@@ -338,8 +346,9 @@ def _headline_sections(
                 "pull), so its planned and desired projection errors are zero by "
                 "construction, where the paper's hands were most likely pressed on them; a "
                 "motion that fell was measured only up to its fall (the outcome says when), "
-                "not over the paper's whole motion; a controller that does not drive the "
-                "hand ends its reach near where it stood.",
+                "not over the paper's whole motion, and a reach that fell has no hand error "
+                "(the hand's distance as the robot toppled); a controller whose planner does "
+                'not drive the hand stands through the reach: "no hand task", no hand error.',
                 benchmarks,
             )
         )
@@ -348,12 +357,16 @@ def _headline_sections(
         result.append(
             (
                 "4. What each controller costs per control period",
-                "From the nominal walk: the control time per 2 ms period (estimator, planner, "
-                "stabilizer, whole-body layer) [µs], median and p99, beside the simulator "
-                "engine's own step for the same period in the same run, and the stages' "
-                "medians; a controller without a walk from the median over its other "
-                "episodes (`from` names their scenarios). One episode's median per cell: "
-                "this machine's speed varies by up to 1.3x within a session.",
+                "From the controller's walks (the nominal walk and the walking pushes: the "
+                "same code every period): the control time per 2 ms period (estimator, "
+                "planner, stabilizer, whole-body layer) [µs], the median over the episodes of "
+                "each one's median, with its distribution-free 95 % interval (from the order "
+                "statistics; none under 6 episodes) and n, the episodes; the median p99; the "
+                "simulator engine's own step for the same periods in the same runs, and the "
+                "stages' medians. The episodes ran minutes apart, so the interval shows how "
+                "this machine's speed moved during the sweep; it says nothing of another "
+                "machine. A controller without a walk from its other episodes (`from` names "
+                "the scenarios).",
                 cost,
             )
         )
@@ -362,11 +375,13 @@ def _headline_sections(
         result.append(
             (
                 "5. Where MuJoCo and PyBullet disagree",
-                "Every headline number per controller in each simulator, the band between the "
-                "simulators (low to high) and their difference (MuJoCo minus PyBullet): push "
-                "survival over all of the protocol's levels [%], and from the nominal walk the "
-                "CoM tracking error, the eq. 18 errors, the control time per period and the "
-                "planned wrench projection error.",
+                "The headline numbers that the simulator decides, per controller in each "
+                "simulator, the band between the simulators (low to high) and their difference "
+                "(MuJoCo minus PyBullet): push survival over all of the protocol's levels [%], "
+                "and from the nominal walk, when it did not fall (a fall's errors measure the "
+                "fall), the CoM tracking error and the eq. 18 errors. Not here: the control "
+                "time (the controller's code on this machine, §4) and the planned projection "
+                "error (the plan's, the same in both).",
                 agreement,
             )
         )
@@ -516,9 +531,10 @@ def build_report(
         (title, text, _with_replay_files(table, out) if title == "Replays" else table)
         for title, text, table in parts
     ]
+    parts = [(title, text, _without_empty(table, OPTIONAL_COLUMNS)) for title, text, table in parts]
     figures: list[tuple[str, Path]] = []
     rates = tables.survival_rates(episodes, "standing")
-    if len(rates):
+    if tables.level_count(episodes, "standing") > 1:  # one level is no curve
         figures.append(
             ("Standing push survival against dv", plots.survival_plot(rates, out / "survival.png"))
         )
@@ -549,6 +565,22 @@ def build_report(
     page = out / "report.html"
     page.write_text(_html(info, parts, figures))
     return [md, page, *(path for _, path in figures)]
+
+
+OPTIONAL_COLUMNS = ("not judged", "fell before the push", "replay")
+"""Columns a table shows only when a row has something in them (a sentence of its text says
+what they would hold)."""
+
+
+def _without_empty(table: pd.DataFrame, columns: Sequence[str]) -> pd.DataFrame:
+    """`table` without those of `columns` that are empty ("", None or NaN) in every row."""
+    empty = [
+        column
+        for column in columns
+        if column in table.columns
+        and table[column].map(lambda v: v is None or v == "" or v != v).all()
+    ]
+    return table.drop(columns=empty)
 
 
 def _with_replay_files(table: pd.DataFrame, out: Path) -> pd.DataFrame:
@@ -607,12 +639,15 @@ def _read_trace(path, notes: list[str]) -> pd.DataFrame | None:
 def _reach_traces(
     episodes: pd.DataFrame, notes: list[str]
 ) -> dict[str, tuple[pd.Series, pd.DataFrame, pd.DataFrame | None]]:
-    """Per reach / reach_push episode with a stored trace: (its row, its trace, its steps
-    taken or None). A trace that cannot be read is skipped with a note in `notes`; a steps
-    file that is missing or cannot be read leaves the steps out of the top view, with a note."""
+    """Per reach / reach_push episode with a stored trace whose planner drives the hand
+    (`tables.drives_hand`): (its row, its trace, its steps taken or None). A trace that
+    cannot be read is skipped with a note in `notes`; a steps file that is missing or cannot
+    be read leaves the steps out of the top view, with a note."""
     rows = tables.reaches(episodes)
     if "has_trace" in rows.columns:
         rows = rows[rows["has_trace"].fillna(False).astype(bool)]
+    # a controller that drives no hand stands: its top view has no reach to show
+    rows = rows[rows.apply(tables.drives_hand, axis=1).astype(bool)] if len(rows) else rows
     result = {}
     for _, row in rows.sort_values(["controller", "sim", "scenario", "episode_id"]).iterrows():
         episode_id = row["episode_id"]
@@ -729,11 +764,12 @@ def _motion_figures(episodes: pd.DataFrame, out: Path, notes: list[str]) -> list
 
 
 def _latency_cells(table: pd.DataFrame) -> pd.DataFrame:
-    """One "median / p99" cell per stage (the numeric table is `tables.latency_table`)."""
+    """One "median / p99" cell per Table IV stage (the numeric table, with the loop's stages
+    that §4 gives, is `tables.latency_table`)."""
     result = table[tables.KEYS].copy()
-    for column in table.columns:
-        if column.endswith(" median µs"):
-            stage = column.removesuffix(" median µs")
+    for stage in tables.TABLE_IV_STAGES:
+        column = f"{stage} median µs"
+        if column in table.columns:
             median, p99 = table[column], table[f"{stage} p99 µs"]
             result[f"{stage} µs"] = [
                 "–" if m != m else f"{m:.0f} / {p:.0f}" for m, p in zip(median, p99, strict=True)
@@ -741,20 +777,51 @@ def _latency_cells(table: pd.DataFrame) -> pd.DataFrame:
     return result
 
 
+NEGLIGIBLE = 1e-6
+"""Below this magnitude a number prints as "< 1e-6": the projection errors of a plan inside
+its cones are solver tolerance (9e-07 N beside the paper's 2.2 N read as a measurement), and
+so are p-values this small."""
+
+
 def _format(table: pd.DataFrame) -> pd.DataFrame:
+    """The table's cells as printed: floats to 4 significant figures, NaN as "–", and
+    magnitudes under `NEGLIGIBLE` (not 0) as "< 1e-6" ("> -1e-6" when negative)."""
+
     def cell(value):
         if isinstance(value, float):
             if value != value:
                 return "–"
+            if 0 < value < NEGLIGIBLE:
+                return "< 1e-6"
+            if -NEGLIGIBLE < value < 0:
+                return "> -1e-6"
             return f"{value:.4g}"
         return value
 
     return table.map(cell)
 
 
+SPEC_KEY = "sweep spec"
+
+
+def _spec_text(info: dict[str, str]) -> str:
+    """The header's sweep spec indented (a spec is one JSON object of several kB; several
+    result directories' specs are one per line)."""
+    texts = []
+    for text in info[SPEC_KEY].split("; "):
+        try:
+            texts.append(json.dumps(json.loads(text), indent=2, sort_keys=True))
+        except json.JSONDecodeError:
+            texts.append(text)
+    return "\n".join(texts)
+
+
 def _markdown(info, parts, figures) -> str:
     lines = [f"# {TITLE}", ""]
-    lines += [f"- **{key}**: {value}" for key, value in info.items()]
+    lines += [f"- **{key}**: {value}" for key, value in info.items() if key != SPEC_KEY]
+    if SPEC_KEY in info:  # folded: it would be one line of several kB
+        lines += ["", "<details><summary>sweep spec</summary>", "", "```json"]
+        lines += [_spec_text(info), "```", "", "</details>"]
     for title, text, table in parts:
         lines += ["", f"## {title}", "", text, ""]
         lines.append(_format(table).to_markdown(index=False) if len(table) else "(no rows)")
@@ -765,8 +832,17 @@ def _markdown(info, parts, figures) -> str:
 
 def _html(info, parts, figures) -> str:
     body = [f"<h1>{TITLE}</h1>", "<ul>"]
-    body += [f"<li><b>{html.escape(k)}</b>: {html.escape(v)}</li>" for k, v in info.items()]
+    body += [
+        f"<li><b>{html.escape(k)}</b>: {html.escape(v)}</li>"
+        for k, v in info.items()
+        if k != SPEC_KEY
+    ]
     body.append("</ul>")
+    if SPEC_KEY in info:
+        body.append(
+            "<details><summary>sweep spec</summary>"
+            f"<pre>{html.escape(_spec_text(info))}</pre></details>"
+        )
     for title, text, table in parts:
         body += [f"<h2>{html.escape(title)}</h2>", f"<p>{html.escape(text)}</p>"]
         body.append(

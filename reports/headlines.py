@@ -18,7 +18,14 @@ import pandas as pd
 from reports.outcomes import failure_label, is_controller_failure
 from reports.paper_figures import MOTION_LABELS, PAPER_SEC_V_G, PAPER_TABLE_IV_US
 from reports.robustness import nominal
-from reports.tables import REACH_PASS_HAND_ERROR_M
+from reports.statistics import median_interval
+from reports.tables import (
+    REACH_PASS_HAND_ERROR_M,
+    drives_hand,
+    independently_timed,
+    interval_cell,
+    timed_walks,
+)
 
 KEYS = ["controller", "sim"]
 REACH_LABELS = {
@@ -62,7 +69,9 @@ def paper_benchmarks(episodes: pd.DataFrame) -> pd.DataFrame:
     (B) and (C)), the final hand error of a reach [cm] (passed: ended within
     `tables.REACH_PASS_HAND_ERROR_M` of the target; the paper prints no number). A controller
     that cannot run a benchmark has its "n/a" row, without numbers; one that fell has the
-    numbers up to its fall."""
+    motions' numbers up to its fall, and no hand error (the hand's distance when the fall was
+    detected); one whose planner drives no hand (`drives_hand`) has its reach outcome marked
+    "no hand task" and no hand error."""
     rows = nominal(episodes)
     rows = rows[rows["scenario"].isin([*MOTION_LABELS, *REACH_LABELS]) & rows["push_phase"].isna()]
     result = []
@@ -79,7 +88,12 @@ def paper_benchmarks(episodes: pd.DataFrame) -> pd.DataFrame:
             continue
         if scenario in REACH_LABELS:
             ours = 100.0 * _number(row.get("hand_error_final_m"))
-            if row["status"] == "ok" and math.isnan(ours):
+            if not drives_hand(row):
+                base["outcome"] += ", no hand task"  # its hand error is where the hand stayed
+                ours = math.nan
+            elif row["status"] == "fell":
+                ours = math.nan  # where the hand was when the fall was detected says nothing
+            elif row["status"] == "ok" and math.isnan(ours):
                 base["outcome"] = "completed, hand error not recorded"
             elif row["status"] == "ok":  # the paper's test: the hand at its target at the end
                 passed = ours < 100.0 * REACH_PASS_HAND_ERROR_M
@@ -101,20 +115,24 @@ def paper_benchmarks(episodes: pd.DataFrame) -> pd.DataFrame:
 
 
 def cost_table(episodes: pd.DataFrame) -> pd.DataFrame:
-    """Per controller x simulator, from the nominal walks: the control time per period
-    (estimator, planner, stabilizer, whole-body layer) [µs], median and p99, the simulator
-    engine's own step for the same period (`sim_engine`, median [µs]) and their ratio (the
-    control's cost in engine steps, measured side by side in the same run), and each
-    stage's median [µs]. A controller without a walk (Sherikov et al.'s hierarchy, in the
-    main job) is given from the median over its other nominal episodes, and `from` names
-    them; the others' rows come from "walk"."""
+    """Per controller x simulator, from its walks (the nominal walk and the walking pushes:
+    the same code every period): the control time per period (estimator, planner,
+    stabilizer, whole-body layer) [µs], the median over the episodes of each episode's
+    median, with its distribution-free 95 % interval (`statistics.median_interval`, empty
+    under 6 episodes) and the episodes' count `n`; the median of their p99; the simulator
+    engine's own step for the same period (`sim_engine`, median [µs]) and the ratio of the
+    two medians (the control's cost in engine steps, measured side by side in the same
+    runs); and each stage's median [µs]. The interval says how much this machine's speed
+    moved the number during the sweep (the episodes ran minutes apart). A controller without
+    a walk (Sherikov et al.'s hierarchy, in the main job) is given from its other nominal
+    episodes; `from` names the scenarios of a row's episodes."""
     everything = nominal(episodes)
-    rows = everything[(everything["scenario"] == "walk") & everything["push_phase"].isna()]
+    rows = timed_walks(everything)
     missing = ~everything.set_index(KEYS).index.isin(rows.set_index(KEYS).index)
-    others = everything[missing]
+    others = independently_timed(everything[missing])
     rows = pd.concat(
         [
-            rows.assign(**{"from": "walk"}),
+            rows.assign(**{"from": rows["scenario"].astype(str)}),
             others.assign(**{"from": others["scenario"].astype(str)}),
         ]
     )
@@ -128,10 +146,15 @@ def cost_table(episodes: pd.DataFrame) -> pd.DataFrame:
         "whole-body µs": "lat_whole_body_median_us",
     }
     rows = rows.reindex(columns=[*KEYS, "from", *columns.values()])
-    table = rows.groupby(KEYS, sort=True)[list(columns.values())].median()
+    groups = rows.groupby(KEYS, sort=True)
+    table = groups[list(columns.values())].median()
     table.columns = list(columns)
-    table.insert(3, "control / engine", table["control median µs"] / table["engine median µs"])
-    sources = rows.groupby(KEYS, sort=True)["from"].agg(lambda s: ", ".join(sorted(set(s))))
+    control = groups["lat_control_total_median_us"]
+    intervals = control.agg(median_interval)
+    table.insert(1, "95 % interval", [interval_cell(*interval) for interval in intervals])
+    table.insert(2, "n", control.count())
+    table.insert(5, "control / engine", table["control median µs"] / table["engine median µs"])
+    sources = groups["from"].agg(lambda s: ", ".join(sorted(set(s))))
     table.insert(0, "from", sources)
     return table.reset_index()
 

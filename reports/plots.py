@@ -85,6 +85,22 @@ def degradation_plot(degradation: pd.DataFrame, dimension: str, path: str | Path
     return path
 
 
+PLANNED_MARGIN_M = 0.1
+"""[m] how far beyond the planned range `walk_plot` draws (an actual ZMP that runs 5 m away
+as the robot falls would otherwise flatten every planned line)."""
+
+
+def planned_limits(trace: pd.DataFrame, axis_name: str) -> tuple[float, float] | None:
+    """(low, high) [m] of the reference and planned CoM and planned ZMP along `axis_name`,
+    widened by `PLANNED_MARGIN_M`; None when they have no finite value."""
+    columns = [f"{q}_{axis_name}" for q in ("com_ref", "com_planned", "zmp_planned")]
+    values = trace[[c for c in columns if c in trace.columns]].to_numpy(dtype=float).ravel()
+    values = values[np.isfinite(values)]
+    if not len(values):
+        return None
+    return float(values.min()) - PLANNED_MARGIN_M, float(values.max()) + PLANNED_MARGIN_M
+
+
 def walk_plot(traces: Mapping[str, pd.DataFrame], path: str | Path) -> Path:
     """Murooka Fig. 3 style: the CoM (reference, planned, actual) and the ZMP (planned,
     actual) along x and y against time, one row per controller."""
@@ -121,6 +137,9 @@ def walk_plot(traces: Mapping[str, pd.DataFrame], path: str | Path) -> Path:
             axis.set_ylabel(f"{axis_name} [m]")
             axis.set_title(f"{label}: {axis_name}", fontsize=9)
             axis.grid(alpha=0.3)
+            limits = planned_limits(trace, axis_name)
+            if limits is not None:
+                axis.set_ylim(*limits)
     axes[0][0].legend(fontsize=7, loc="upper left")
     for axis in axes[-1]:
         axis.set_xlabel("time [s]")

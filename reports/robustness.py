@@ -279,28 +279,49 @@ def paired_comparisons(episodes: pd.DataFrame, phase: str) -> pd.DataFrame:
 def headline_survival(episodes: pd.DataFrame) -> pd.DataFrame:
     """Per controller x push phase: the protocol pushes survived over all levels in each
     simulator, k/n with the 95 % Wilson interval, and the band between the simulators' rates
-    [%] (low-high). Episodes that fell before their push are not pushes
-    (`reports.outcomes.judged_push`): a cell says how many ("20 fell before the push")."""
+    [%] (low-high), and the protocol's levels (`levels_cell`: dv and the impulse for the
+    robot). Episodes that fell before their push are not pushes
+    (`reports.outcomes.judged_push`): a cell says how many ("20 fell before the push"), and
+    how many ended in an error or a timeout that says nothing of the controller ("1 not
+    judged", `reports.outcomes.judged`)."""
     result = []
     for phase in ("standing", "walking"):
-        rows = protocol_pushes(episodes, phase)
-        rows = rows[judged(rows)]
-        for controller, group in rows.groupby("controller", sort=True):
-            row = {"controller": controller, "phase": phase}
+        pushed = protocol_pushes(episodes, phase)
+        for controller, group in pushed.groupby("controller", sort=True):
+            row = {"controller": controller, "phase": phase, "levels": levels_cell(group)}
             rates = {}
             for sim, runs in group.groupby("sim", sort=True):
+                unjudged = int((~judged(runs)).sum())
+                runs = runs[judged(runs)]
                 early = ended_before_push(runs)
                 before = int(early.sum())
                 runs = runs[~early]
                 alive = runs["survived"].fillna(False).astype(bool)
                 cell = fraction_cell(int(alive.sum()), len(alive)) if len(alive) else ""
-                note = f"{before} fell before the push" if before else ""
-                row[sim] = ", ".join(part for part in (cell, note) if part)
+                notes = (
+                    f"{before} fell before the push" if before else "",
+                    f"{unjudged} not judged" if unjudged else "",
+                )
+                row[sim] = ", ".join(part for part in (cell, *notes) if part)
                 rates[sim] = float(alive.mean()) if len(alive) else math.nan
             low, high = simulator_band(rates)
             row["band %"] = "" if math.isnan(low) else f"{100 * low:.0f}-{100 * high:.0f}"
             result.append(row)
     return pd.DataFrame(result)
+
+
+def levels_cell(pushes: pd.DataFrame) -> str:
+    """The push levels of one controller's protocol pushes: "0.35 m/s (20.4 N s)" for one
+    level (dv and the impulse J = m dv the robot was given), "3 levels, 0.18-0.42 m/s" for
+    several."""
+    levels = sorted(set(pushes["push_dv_mps"].dropna()))
+    if len(levels) == 1:
+        impulse = pushes["push_impulse_Ns"].dropna()
+        given = f" ({impulse.median():.1f} N s)" if len(impulse) else ""
+        return f"{levels[0]:g} m/s{given}"
+    if not levels:
+        return ""
+    return f"{len(levels)} levels, {levels[0]:g}-{levels[-1]:g} m/s"
 
 
 def direction_table(episodes: pd.DataFrame) -> pd.DataFrame:

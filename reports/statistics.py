@@ -14,6 +14,11 @@ paired comparisons between controllers on the same pushes, and the band between 
   controllers survive equally, each discordant push is equally likely to go either way).
 - `simulator_band`: a number measured in both simulators as its range [low, high], the band
   the report shows on every headline number.
+- `median_interval`: the distribution-free 95 % interval of a median from its sample's order
+  statistics (scipy's `quantile_test(...).confidence_interval()`: the interval between the
+  order statistics that the binomial distribution of the count below the median brackets
+  with at least 95 %), for numbers such as per-period times that are not normal and vary
+  with the machine's load.
 """
 
 from __future__ import annotations
@@ -96,6 +101,20 @@ def simulator_band(values: Mapping[str, float]) -> tuple[float, float]:
     if not finite:
         return (math.nan, math.nan)
     return (min(finite), max(finite))
+
+
+def median_interval(values: Iterable[float], confidence: float = CONFIDENCE) -> tuple[float, float]:
+    """The distribution-free `confidence` interval (low, high) of the median of `values`
+    (finite values only): two of the sample's order statistics (scipy's `quantile_test` at
+    p = 1/2). (nan, nan) with fewer than 6 values, which cannot bracket a median with 95 %
+    (2 / 2^5 = 6.25 % of samples have every value on one side of it)."""
+    sample = np.asarray([float(v) for v in values], dtype=float)
+    sample = sample[np.isfinite(sample)]
+    if sample.size == 0:
+        return (math.nan, math.nan)
+    test = stats.quantile_test(sample, q=float(np.median(sample)), p=0.5)
+    interval = test.confidence_interval(confidence_level=confidence)
+    return (float(interval.low), float(interval.high))
 
 
 def fraction_cell(survived: int, trials: int) -> str:

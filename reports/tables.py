@@ -18,7 +18,12 @@ import pandas as pd
 
 from reports.outcomes import ended_before_push, judged, judged_push
 from reports.robustness import nominal, protocol_pushes
-from reports.statistics import fraction_cell, simulator_band, wilson_interval
+from reports.statistics import (
+    fraction_cell,
+    median_interval,
+    simulator_band,
+    wilson_interval,
+)
 
 KEYS = ["controller", "sim"]
 TABLE_IV_STAGES = (
@@ -44,6 +49,55 @@ def walks(episodes: pd.DataFrame) -> pd.DataFrame:
     """The nominal walks (`reports.robustness.nominal`): scenario walk without a push."""
     rows = nominal(episodes)
     return rows[(rows["scenario"] == "walk") & rows["push_phase"].isna()]
+
+
+TIMED_WALKS = ("walk", "walk_push")
+"""The scenarios a controller's cost per period is taken from (`timed_walks`)."""
+
+
+BRANCHED_SCENARIOS = ("stand_push", "walk_push")
+"""bench.branching.BRANCHED_SCENARIOS (reports/ imports nothing of bench/; a test checks that
+the two agree): the pushed episodes a sweep runs as one group, forked at the push."""
+SHARED_RUN_KEYS = (
+    "controller",
+    "sim",
+    "robot",
+    "scenario",
+    "seed",
+    "replica",
+    "perturbation",
+    "push_time_s",
+    "push_step",
+)
+"""The columns that the episodes of one branched group share (`bench.branching.branch_key`:
+everything but the push's impulse and direction)."""
+
+
+def independently_timed(rows: pd.DataFrame) -> pd.DataFrame:
+    """The rows whose timings (`lat_*`) are separate measurements: an episode run alone, and
+    a branch of a group, which times its own periods from the push on (`timed_from_s`, the
+    runner's); of the episodes of a group that ended before its push (`timed_from_s` None:
+    copies of one run) and of branched rows written before `timed_from_s` (2026-11-28: each
+    held the group's periods as well as its own), one per group."""
+    timed = rows["timed_from_s"] if "timed_from_s" in rows else pd.Series(math.nan, rows.index)
+    shared = rows["scenario"].isin(BRANCHED_SCENARIOS) & timed.isna()
+    keys = [k for k in SHARED_RUN_KEYS if k in rows.columns]
+    first = ~rows[shared].reindex(columns=keys).astype(str).duplicated()
+    return pd.concat([rows[~shared], rows[shared][first]]).sort_index()
+
+
+def timed_walks(episodes: pd.DataFrame) -> pd.DataFrame:
+    """The nominal walks, pushed or not (scenarios `TIMED_WALKS`), each a separate timing
+    (`independently_timed`): the episodes a controller's time per period is the median over
+    (the same code runs every period; 21 in the main job, run minutes apart, so that their
+    spread shows how this machine's speed moved during the sweep)."""
+    rows = nominal(episodes)
+    return independently_timed(rows[rows["scenario"].isin(TIMED_WALKS)])
+
+
+def interval_cell(low: float, high: float) -> str:
+    """ "low-high" (whole numbers: µs), "–" when there is no interval."""
+    return "–" if math.isnan(low) else f"{low:.0f}-{high:.0f}"
 
 
 def pushes(episodes: pd.DataFrame, phase: str) -> pd.DataFrame:
@@ -89,22 +143,27 @@ joint targets took on average 143 µs" (on the robot's computer, at 100 Hz)."""
 
 
 def paper_latency_table(episodes: pd.DataFrame) -> pd.DataFrame:
-    """Per controller x simulator with a paper figure (`PAPER_LOOP_US`), from the walks: the
-    median control time per period [µs] (estimator, planner, stabilizer and whole-body layer:
-    the paper's "whole control loop" without the robot's I/O), the paper's, and their ratio."""
-    columns = [*KEYS, "control median µs", "paper µs", "ratio"]
-    rows = walks(episodes)
+    """Per controller x simulator with a paper figure (`PAPER_LOOP_US`), from its walks
+    (`timed_walks`): the control time per period [µs] (estimator, planner, stabilizer and
+    whole-body layer: the paper's "whole control loop" without the robot's I/O), the median
+    over the episodes of each one's median, with its distribution-free 95 % interval and
+    the episodes' count; the paper's figure, and the ratio of the median to it."""
+    columns = [*KEYS, "control median µs", "95 % interval", "n", "paper µs", "ratio"]
+    rows = timed_walks(episodes)
     result = []
     for (controller, sim), group in rows.groupby(KEYS, sort=True):
         paper = next((v for k, v in PAPER_LOOP_US.items() if controller.startswith(k)), None)
         if paper is None:
             continue
-        measured = float(group["lat_control_total_median_us"].median())
+        values = group["lat_control_total_median_us"].dropna()
+        measured = float(values.median())
         result.append(
             {
                 "controller": controller,
                 "sim": sim,
                 "control median µs": measured,
+                "95 % interval": interval_cell(*median_interval(values)),
+                "n": len(values),
                 "paper µs": paper,
                 "ratio": measured / paper,
             }
@@ -145,6 +204,11 @@ def survival_table(episodes: pd.DataFrame, phase: str = "standing") -> pd.DataFr
     before = rows[ended_before_push(rows)].groupby(KEYS).size()
     cells["fell before the push"] = [int(before.get(key, 0)) or "" for key in cells.index]
     return cells.reset_index()
+
+
+def level_count(episodes: pd.DataFrame, phase: str) -> int:
+    """How many push levels (dv) the protocol pushes of `phase` have."""
+    return int(pushes(episodes, phase)["push_dv_mps"].nunique())
 
 
 def survival_rates(episodes: pd.DataFrame, phase: str = "standing") -> pd.DataFrame:
@@ -214,10 +278,10 @@ AGREEMENT_QUANTITIES = (
     ("walk e_com (eq. 18)", "m s"),
     ("walk e_zmp (eq. 18)", "m s"),
     ("walk e_velocity (eq. 18)", "m/s"),
-    ("control time per period, median", "µs"),
-    ("planned wrench projection error, force", "N"),
 )
-"""The headline numbers `agreement_table` gives per simulator with their band: (name, unit)."""
+"""The headline numbers `agreement_table` gives per simulator with their band: (name, unit).
+Only what the simulator decides: not the control time (the controller's code, timed on the
+machine) nor the planned projection error (a property of the plan before any contact)."""
 
 
 def _headline_numbers(episodes: pd.DataFrame) -> dict[str, pd.Series]:
@@ -227,22 +291,22 @@ def _headline_numbers(episodes: pd.DataFrame) -> dict[str, pd.Series]:
         rates = survival_rates(episodes, phase)
         totals = rates.groupby(KEYS)[["survived", "pushes"]].sum()
         numbers[f"{phase} push survival"] = 100.0 * totals["survived"] / totals["pushes"]
-    walked = walks(episodes).groupby(KEYS)
+    completed = walks(episodes)
+    # a walk that fell: its errors measure the fall, not the tracking (eq. 18's are not given)
+    walked = completed[completed["status"] == "ok"].groupby(KEYS)
     numbers["walk CoM tracking RMS"] = 1e3 * walked["com_error_rms_m"].median()
     for name in ("e_com", "e_zmp", "e_velocity"):
         numbers[f"walk {name} (eq. 18)"] = walked[name].median()
-    numbers["control time per period, median"] = walked["lat_control_total_median_us"].median()
-    numbers["planned wrench projection error, force"] = walked["planned_force_N"].mean()
     return numbers
 
 
 def agreement_table(episodes: pd.DataFrame) -> pd.DataFrame:
-    """Where the simulators disagree: every headline number (`AGREEMENT_QUANTITIES`: push
-    survival over all of the protocol's levels, standing and walking [%]; the nominal walk's
-    CoM tracking error [mm], eq. 18 errors, control time [µs] and planned projection error
-    [N]) per controller in each simulator, the band between the simulators (`band`: "low to
-    high", `reports.statistics.simulator_band`) and MuJoCo minus PyBullet. Rows: controller
-    x quantity, for the quantities measured in at least one simulator."""
+    """Where the simulators disagree: every headline number that the simulator decides
+    (`AGREEMENT_QUANTITIES`: push survival over all of the protocol's levels, standing and
+    walking [%]; the nominal walk's CoM tracking error [mm] and eq. 18 errors, from walks
+    that did not fall) per controller in each simulator, the band between the simulators
+    (`band`: "low to high", `reports.statistics.simulator_band`) and MuJoCo minus PyBullet.
+    Rows: controller x quantity, for the quantities measured in at least one simulator."""
     columns = _AGREEMENT_COLUMNS.union(episodes.columns)
     numbers = _headline_numbers(episodes.reindex(columns=columns))
     sims = sorted(set(episodes["sim"]))
@@ -270,16 +334,7 @@ def agreement_table(episodes: pd.DataFrame) -> pd.DataFrame:
     )
 
 
-_AGREEMENT_COLUMNS = pd.Index(
-    [
-        "com_error_rms_m",
-        "e_com",
-        "e_zmp",
-        "e_velocity",
-        "lat_control_total_median_us",
-        "planned_force_N",
-    ]
-)
+_AGREEMENT_COLUMNS = pd.Index(["com_error_rms_m", "e_com", "e_zmp", "e_velocity"])
 """The row columns `_headline_numbers` reads (absent from result sets written before them)."""
 
 
@@ -377,6 +432,14 @@ def reaches(episodes: pd.DataFrame) -> pd.DataFrame:
     return rows[rows["scenario"].isin(REACH_SCENARIOS)]
 
 
+def drives_hand(row: pd.Series) -> bool:
+    """Whether the episode's planner drove the hand to the reach's targets (the row's
+    `hand_task`, `Planner.tracks_hand_targets`); True for rows written before it was recorded
+    (2026-11-28), whose hand errors the report cannot tell apart."""
+    value = row.get("hand_task")
+    return True if value is None or pd.isna(value) else bool(value)
+
+
 def solve_time_stats(trace: pd.DataFrame, column: str = "t_hierarchy_us") -> dict[str, float]:
     """Mean, p99 and max [µs] of a trace's per-period times in `column` (NaN periods left
     out, as the runner's `latency_us` summary does); empty when there are none."""
@@ -397,12 +460,13 @@ def reach_table(
     episodes: pd.DataFrame, solve_times: Mapping[str, Mapping[str, float]] | None = None
 ) -> pd.DataFrame:
     """Sherikov et al. 2014's Tests 1-2, one row per `reach` / `reach_push` episode: status,
-    final hand error [cm], steps taken, pass (status ok and a final hand error under
-    `REACH_PASS_HAND_ERROR_M`: "yes" / "no") and the hierarchy's solve time per period [ms]
-    (mean, p99, max). Solve times come from `solve_times` (episode id -> {mean, p99, max} [µs],
-    `solve_time_stats` of its stored trace), else from the row's `lat_hierarchy_{stat}_us`
-    columns where it has them (the episode rows of this version keep no hierarchy latency);
-    a number that is in neither is left empty (NaN)."""
+    final hand error [cm] (empty after a fall, and for a planner that drives no hand: the
+    row's `hand_task` False), steps taken, pass (status ok and a final hand error under
+    `REACH_PASS_HAND_ERROR_M`: "yes" / "no"; "n/a (no hand task)") and the hierarchy's solve
+    time per period [ms] (mean, p99, max). Solve times come from `solve_times` (episode id ->
+    {mean, p99, max} [µs], `solve_time_stats` of its stored trace), else from the row's
+    `lat_hierarchy_{stat}_us` columns where it has them (the episode rows of this version keep
+    no hierarchy latency); a number that is in neither is left empty (NaN)."""
     columns = [
         *KEYS,
         "scenario",
@@ -420,16 +484,18 @@ def reach_table(
     result = []
     for _, row in rows.sort_values(sort).iterrows():
         error = _number(row.get("hand_error_final_m"))
+        hand = drives_hand(row)
         stored = (solve_times or {}).get(row.get("episode_id"), {})
+        passed = "yes" if row["status"] == "ok" and error < REACH_PASS_HAND_ERROR_M else "no"
         entry = {
             "controller": row["controller"],
             "sim": row["sim"],
             "scenario": row["scenario"],
             "seed": row.get("seed"),
             "status": row["status"],
-            "hand error cm": 100.0 * error,
+            "hand error cm": 100.0 * error if hand and row["status"] != "fell" else math.nan,
             "steps": _number(row.get("steps_taken")),
-            "pass": "yes" if row["status"] == "ok" and error < REACH_PASS_HAND_ERROR_M else "no",
+            "pass": passed if hand else "n/a (no hand task)",
         }
         for stat in SOLVE_STATS:
             value = stored.get(stat)

@@ -143,6 +143,40 @@ def test_paper_benchmarks_set_ours_beside_the_papers_figure(episodes):
     assert not ((table["controller"] == preview) & (table["sim"] == "pybullet")).any()
 
 
+def test_reaches_without_a_hand_task_or_after_a_fall_give_no_hand_error():
+    """A controller that drives no hand stands ~0.9 m from the target, and a fall's hand
+    distance is taken as the robot topples: neither is a reaching result beside the paper's."""
+    rows = [
+        _row(
+            controller="hold+posture",
+            planner="hold",
+            sim="mujoco",
+            scenario="reach",
+            status="ok",
+            hand_error_final_m=0.896,
+            hand_task=False,
+        ),
+        _row(
+            controller="capturability_hierarchy",
+            planner="capturability_hierarchy",
+            sim="mujoco",
+            scenario="reach_push",
+            status="fell",
+            fell=True,
+            fall_time=5.3,
+            hand_error_final_m=0.33,
+            hand_task=True,
+        ),
+    ]
+    table = headlines.paper_benchmarks(pd.DataFrame(rows))
+    hold = _value(table, "hold+posture", "Test 1", "hand error", "outcome")
+    assert hold == "completed, no hand task"
+    assert math.isnan(_value(table, "hold+posture", "Test 1", "hand error", "ours"))
+    fell = "capturability_hierarchy"
+    assert _value(table, fell, "Test 2", "hand error", "outcome") == "fell at 5.3 s"
+    assert math.isnan(_value(table, fell, "Test 2", "hand error", "ours"))
+
+
 def test_cost_is_the_control_time_in_engine_steps_of_the_same_run(episodes):
     table = headlines.cost_table(episodes).set_index(["controller", "sim"])
     for key, (control, engine) in WALKS.items():
@@ -165,6 +199,54 @@ def test_a_controller_without_a_walk_is_costed_from_its_other_episodes():
     assert table.loc[("hier", "mujoco"), "control median µs"] == 2500.0
     assert table.loc[("hier", "mujoco"), "from"] == "reach, reach_push, stand_push"
     assert table.loc[("a+x", "mujoco"), "from"] == "walk"
+
+
+def test_cost_is_the_median_over_the_walks_with_its_interval():
+    """The cost of a controller is the median over its walks, pushed or not (21 in the main
+    job: the same code every period), with the order statistics' 95 % interval: for 21
+    episodes the 6th and the 16th of the sorted episode medians; n counts them. A walking
+    push counts when it timed its own periods (a branch, from the push on: `timed_from_s`)."""
+    rows = [_walk("a+x", "mujoco", 300.0, 40.0)]
+    for index in range(20):
+        row = _walk("a+x", "mujoco", 310.0 + 10.0 * index, 40.0)
+        row.update(
+            scenario="walk_push",
+            push_phase="walking",
+            push_time_s=3.1,
+            timed_from_s=3.1,
+            episode_id=f"p{index}",
+        )
+        rows.append(row)
+    table = headlines.cost_table(pd.DataFrame(rows)).set_index(["controller", "sim"])
+    row = table.loc[("a+x", "mujoco")]
+    # the sorted medians: 300, 310, ..., 500; median 400; 6th = 350, 16th = 450
+    assert row["control median µs"] == 400.0
+    assert row["95 % interval"] == "350-450"
+    assert row["n"] == 21
+    assert row["from"] == "walk, walk_push"
+    # one walk alone has no interval
+    alone = headlines.cost_table(pd.DataFrame(rows[:1])).iloc[0]
+    assert (alone["95 % interval"], alone["n"]) == ("–", 1)
+
+
+def test_copies_of_one_run_count_once_in_the_cost():
+    """A walking-push group that fell before its push is one run copied into 20 rows
+    (`timed_from_s` None): one timing, not 20 (20 equal medians made a 0-wide interval)."""
+    rows = [_walk("a+x", "mujoco", 300.0, 40.0)]
+    for index in range(20):
+        row = _walk("a+x", "mujoco", 500.0, 40.0)
+        row.update(
+            scenario="walk_push",
+            push_phase="walking",
+            push_time_s=3.1,
+            timed_from_s=None,
+            episode_id=f"p{index}",
+        )
+        rows.append(row)
+    row = headlines.cost_table(pd.DataFrame(rows)).iloc[0]
+    assert row["n"] == 2
+    assert row["95 % interval"] == "–"
+    assert row["control median µs"] == 400.0  # the median of 300 and 500
 
 
 def _push(controller, sim, phase, index, alive) -> dict:
@@ -205,10 +287,14 @@ def test_the_report_of_a_main_job_opens_with_every_headline_table(tmp_path: Path
         for s in ("mujoco", "pybullet")
     ]
     pd.DataFrame(speed).to_parquet(tmp_path / "results" / "speed.parquet")
-    build_report(tmp_path / "results", tmp_path / "report")
+    paths = build_report(tmp_path / "results", tmp_path / "report")
     markdown = (tmp_path / "report" / "report.md").read_text()
     sections = markdown.split("\n## ")[1:]
     titles = [section.splitlines()[0] for section in sections]
+    # one level per phase: §1 is the whole push table, not repeated per level, and one
+    # level is no curve of survival against dv
+    assert not any(title.startswith("Push survival") for title in titles)
+    assert "survival.png" not in {path.name for path in paths}
     assert titles[:5] == [
         "1. Which pushes each controller survives",
         "2. How fast each controller walks (Ficht & Behnke Table 1)",
@@ -229,7 +315,9 @@ def test_the_report_of_a_main_job_opens_with_every_headline_table(tmp_path: Path
         ("b+y", "standing"),
         ("b+y", "walking"),
     ]
-    cells = {(r[0], r[1]): (r[2], r[3], r[4]) for r in survival}
+    # the one level, with the impulse the robot was given (the fixture's 0.3 m/s, 17.5 N s)
+    assert {r[2] for r in survival} == {"0.3 m/s (17.5 N s)"}
+    cells = {(r[0], r[1]): (r[3], r[4], r[5]) for r in survival}
     assert cells[("a+x", "standing")][:2] == (fraction_cell(3, 4), fraction_cell(3, 4))
     assert cells[("b+y", "standing")] == (fraction_cell(3, 4), fraction_cell(1, 4), "25-75")
     # 2: one row per controller and simulator
@@ -248,14 +336,14 @@ def test_the_report_of_a_main_job_opens_with_every_headline_table(tmp_path: Path
     assert any(r[2] == "(B) handrail stairs" and r[6] == "186" for r in benchmarks)
     # 4: one row per controller and simulator with a walk, the ratio to the engine; those
     # without a walk from their other episodes, which `from` names
-    assert sorted((r[0], r[1], r[6]) for r in cost if r[2] == "walk") == [
+    assert sorted((r[0], r[1], r[8]) for r in cost if r[2].startswith("walk")) == [
         ("a+x", "mujoco", "7.5"),
         ("a+x", "pybullet", "7.5"),
         ("b+y", "mujoco", "7.5"),
         ("b+y", "pybullet", "7.5"),
     ]
-    assert {r[0] for r in cost if r[2] != "walk"} >= {"capturability_hierarchy"}
-    assert all(r[2] != "walk" for r in cost if r[0] == "capturability_hierarchy")
+    assert {r[0] for r in cost if not r[2].startswith("walk")} >= {"capturability_hierarchy"}
+    assert all(not r[2].startswith("walk") for r in cost if r[0] == "capturability_hierarchy")
     # 5: the push survival in both simulators with its band and MuJoCo minus PyBullet
     assert ["a+x", "standing push survival", "%", "75", "75", "75 to 75", "0"] in agreement
     assert ["b+y", "standing push survival", "%", "75", "25", "25 to 75", "50"] in agreement

@@ -173,6 +173,9 @@ def test_solve_time_plot_without_its_columns(tmp_path):
 def test_the_reports_copies_of_the_scenarios_constants_agree():
     assert tables.REACH_PASS_HAND_ERROR_M == scenarios.REACH_PASS_HAND_ERROR_M
     assert tuple(push[0] for push in scenarios.REACH_PUSHES) == tables.REACH_PUSH_TIMES_S
+    from bench.branching import BRANCHED_SCENARIOS
+
+    assert tables.BRANCHED_SCENARIOS == BRANCHED_SCENARIOS
 
 
 def test_solve_time_stats_of_a_trace():
@@ -228,13 +231,31 @@ def test_reach_table_rows_and_pass():
         ("pybullet", "reach_push", "error"),
     ]
     assert list(table["pass"]) == ["yes", "no", "no", "no"]
-    np.testing.assert_allclose(table["hand error cm"].iloc[:3], [1.0, 5.0, 0.5])
-    assert np.isnan(table["hand error cm"].iloc[3])
+    np.testing.assert_allclose(table["hand error cm"].iloc[:2], [1.0, 5.0])
+    # after a fall the hand's distance at the fall's detection is no hand error: none shown
+    assert table["hand error cm"].iloc[2:].isna().all()
     assert list(table["steps"].iloc[:2]) == [6, 9]
     assert table["steps"].iloc[2:].isna().all()
     assert list(table.loc[0, ["solve mean ms", "solve p99 ms", "solve max ms"]]) == [1.5, 2.5, 4.0]
     assert table.iloc[1:][["solve mean ms", "solve p99 ms", "solve max ms"]].isna().all().all()
     assert tables.reach_table(episodes[episodes["scenario"] == "walk"]).empty
+
+
+def test_reach_rows_of_a_planner_without_a_hand_task_show_no_hand_error():
+    """A fixed-schedule controller stands through `reach`: its hand stays ~0.9 m from the
+    target, which is no measure of reaching; with `hand_task` False the row says so."""
+    episodes = pd.DataFrame(
+        [
+            _episode("e1", "reach", "ok", 0.896, controller="hold+posture", hand_task=False),
+            _episode("e2", "reach", "ok", 0.01, hand_task=True),
+            _episode("e3", "reach", "ok", 0.01),  # a row written before hand_task: as before
+        ]
+    )
+    table = tables.reach_table(episodes)  # by controller: the hierarchy's two, then hold's
+    assert list(table["controller"]) == [*2 * ["capturability_hierarchy"], "hold+posture"]
+    assert list(table["pass"]) == ["yes", "yes", "n/a (no hand task)"]
+    np.testing.assert_allclose(table["hand error cm"].iloc[:2], [1.0, 1.0])
+    assert np.isnan(table["hand error cm"].iloc[2])
 
 
 def test_reach_table_takes_hierarchy_latency_columns_when_rows_have_them():
@@ -248,7 +269,8 @@ def test_reach_table_takes_hierarchy_latency_columns_when_rows_have_them():
 @pytest.fixture
 def reach_results(tmp_path) -> Path:
     """A result directory: a reach with its trace and steps, a reach_push with a trace and no
-    steps file, a reach whose trace is corrupt, a reach without a trace, and a walk."""
+    steps file, a reach whose trace is corrupt, a reach without a trace, a reach with a trace
+    by a controller that drives no hand, and a walk."""
     root = tmp_path / "results"
     store = ResultStore(root)
     store.prepare({"name": "reach"}, "digest", resume=False, overwrite=False)
@@ -257,6 +279,8 @@ def reach_results(tmp_path) -> Path:
     store.write(_episode("r2", "reach_push", "fell", 0.3), trace, None)
     store.write(_episode("r3", "reach", "ok", 0.015, sim="pybullet"), trace, _footsteps())
     store.write(_episode("r4", "reach_push", "ok", 0.01, sim="pybullet"), None)
+    standing = _episode("s1", "reach", "ok", 0.9, controller="hold+posture", hand_task=False)
+    store.write(standing, trace, _footsteps())  # drives no hand: no figure
     walk = _trace()[["time"]]
     for prefix in ("com_ref", "com_planned", "com_actual", "zmp_planned", "zmp_actual"):
         walk[f"{prefix}_x"] = 0.1 * walk["time"]
@@ -281,7 +305,7 @@ def test_report_has_the_reaching_section_and_figures(reach_results, tmp_path):
     names = {p.name for p in paths}
     expected = {"reach_r1_top.png", "reach_r1_solve.png", "reach_r2_top.png", "reach_r2_solve.png"}
     assert expected <= names
-    assert not {n for n in names if n.startswith(("reach_r3", "reach_r4"))}
+    assert not {n for n in names if n.startswith(("reach_r3", "reach_r4", "reach_s1"))}
     for name in expected:
         assert _is_png(out / name)
     markdown = (out / "report.md").read_text()
@@ -316,7 +340,7 @@ def test_report_has_the_reaching_section_and_figures(reach_results, tmp_path):
 
 
 def test_no_reaching_section_without_reach_episodes(reach_results, tmp_path):
-    for path in (reach_results / "episodes").glob("r*.parquet"):
+    for path in (reach_results / "episodes").glob("[rs]*.parquet"):
         path.unlink()
     paths = build_report(reach_results, tmp_path / "report")
     assert not [p for p in paths if p.name.startswith("reach_")]

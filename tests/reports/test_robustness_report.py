@@ -366,3 +366,16 @@ def test_a_controller_given_another_estimator_says_so_in_its_label():
         "preview_control+x",
         "preview_control+x [ground_truth]",
     }
+
+
+def test_the_headline_survival_counts_the_unjudged_episodes_and_names_the_level():
+    """An episode that ended in a simulator error says nothing of the controller: the headline
+    cell leaves it out of k/n and says how many there were; the level column gives dv and the
+    impulse the robot was given."""
+    rows = [_push("a+x", "mujoco", 0.3, index, True) for index in range(4)]
+    rows[3].update(status="error", error_stage="sim", survived=None)
+    episodes = pd.DataFrame(rows)
+    headline = robustness.headline_survival(episodes).set_index("controller")
+    assert headline.loc["a+x", "mujoco"] == fraction_cell(3, 3) + ", 1 not judged"
+    impulse = float(episodes["push_impulse_Ns"].iloc[0])
+    assert headline.loc["a+x", "levels"] == f"0.3 m/s ({impulse:.1f} N s)"

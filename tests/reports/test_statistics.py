@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import math
 
+import numpy as np
 import pandas as pd
 import pytest
 from scipy import stats
@@ -109,3 +110,26 @@ def test_simulator_band_spans_the_finite_values():
     assert simulator_band({"mujoco": 0.7, "pybullet": 0.55}) == (0.55, 0.7)
     assert simulator_band({"mujoco": 0.7, "pybullet": float("nan")}) == (0.7, 0.7)
     assert all(math.isnan(x) for x in simulator_band({"mujoco": None}))
+
+
+def test_median_interval_is_the_binomial_order_statistics():
+    """For n values the interval is (x_(k), x_(n+1-k)) with k the largest count for which
+    P(Bin(n, 1/2) < k) <= 2.5 %: at n = 21, P(X <= 5) = 1.3 % and P(X <= 6) = 3.9 %, so the
+    6th and the 16th of the sorted values."""
+    from reports.statistics import median_interval
+
+    n = 21
+    assert stats.binom.cdf(5, n, 0.5) < 0.025 < stats.binom.cdf(6, n, 0.5)
+    values = np.random.default_rng(3).permutation(np.arange(1.0, n + 1) * 10)  # unsorted
+    assert median_interval(values) == (60.0, 160.0)
+    assert median_interval([*values, math.nan]) == (60.0, 160.0)  # NaN left out
+
+
+def test_median_interval_needs_six_values():
+    """With 5 values the sample's extremes bracket the median with 1 - 2 / 32 = 93.75 %, less
+    than 95 %: no interval; with 6, the extremes' 96.9 %."""
+    from reports.statistics import median_interval
+
+    assert all(math.isnan(v) for v in median_interval([1.0, 2.0, 3.0, 4.0, 5.0]))
+    assert median_interval([6.0, 1.0, 2.0, 3.0, 4.0, 5.0]) == (1.0, 6.0)
+    assert all(math.isnan(v) for v in median_interval([]))
