@@ -819,14 +819,16 @@ def _spec_text(info: dict[str, str]) -> str:
 def _markdown(info, parts, figures) -> str:
     lines = [f"# {TITLE}", ""]
     lines += [f"- **{key}**: {value}" for key, value in info.items() if key != SPEC_KEY]
-    if SPEC_KEY in info:  # folded: it would be one line of several kB
-        lines += ["", "<details><summary>sweep spec</summary>", "", "```json"]
-        lines += [_spec_text(info), "```", "", "</details>"]
+    if SPEC_KEY in info:
+        lines.append(f"- **{SPEC_KEY}**: at the end of the report")
     for title, text, table in parts:
         lines += ["", f"## {title}", "", text, ""]
         lines.append(_format(table).to_markdown(index=False) if len(table) else "(no rows)")
     for title, path in figures:
         lines += ["", f"## {title}", "", f"![{title}]({path.name})"]
+    if SPEC_KEY in info:  # folded and last: indented, it is hundreds of lines
+        lines += ["", "## Sweep spec", "", "<details><summary>sweep spec</summary>", "", "```json"]
+        lines += [_spec_text(info), "```", "", "</details>"]
     return "\n".join(lines) + "\n"
 
 
@@ -837,12 +839,9 @@ def _html(info, parts, figures) -> str:
         for k, v in info.items()
         if k != SPEC_KEY
     ]
-    body.append("</ul>")
     if SPEC_KEY in info:
-        body.append(
-            "<details><summary>sweep spec</summary>"
-            f"<pre>{html.escape(_spec_text(info))}</pre></details>"
-        )
+        body.append(f"<li><b>{SPEC_KEY}</b>: at the end of the report</li>")
+    body.append("</ul>")
     for title, text, table in parts:
         body += [f"<h2>{html.escape(title)}</h2>", f"<p>{html.escape(text)}</p>"]
         body.append(
@@ -852,6 +851,12 @@ def _html(info, parts, figures) -> str:
         body += [
             f"<h2>{html.escape(title)}</h2>",
             f'<img src="{path.name}" alt="{html.escape(title)}">',
+        ]
+    if SPEC_KEY in info:
+        body += [
+            "<h2>Sweep spec</h2>",
+            "<details><summary>sweep spec</summary>"
+            f"<pre>{html.escape(_spec_text(info))}</pre></details>",
         ]
     style = (
         "body{font-family:sans-serif;max-width:1200px;margin:2em auto}"

@@ -599,7 +599,7 @@ def test_the_walk_plot_is_drawn_around_the_plan_not_the_fall():
 
 def test_the_sweep_spec_is_folded_and_indented(tmp_path: Path):
     """The header's spec is one JSON object of several kB: it is shown folded and indented,
-    one field per line, not as one line across the header."""
+    one field per line, at the end of the report, not as one line across the header."""
     root = tmp_path / "results"
     store = ResultStore(root)
     spec = {"name": "t", "push": {"survival_time": 0.7}}
@@ -609,7 +609,11 @@ def test_the_sweep_spec_is_folded_and_indented(tmp_path: Path):
     build_report(root, tmp_path / "report")
     markdown = (tmp_path / "report" / "report.md").read_text()
     page = (tmp_path / "report" / "report.html").read_text()
-    assert "<details><summary>sweep spec</summary>" in markdown
-    assert '\n    "survival_time": 0.7\n' in markdown
-    assert "- **sweep spec**" not in markdown
+    folded = markdown.split("\n## Sweep spec\n")
+    assert len(folded) == 2  # the last section, after every table and figure
+    assert "\n## " not in folded[1]
+    assert folded[1].startswith("\n<details><summary>sweep spec</summary>")
+    assert '\n    "survival_time": 0.7\n' in folded[1]
+    assert "- **sweep spec**: at the end of the report" in markdown
     assert "<details><summary>sweep spec</summary><pre>{\n  &quot;name&quot;" in page
+    assert page.index("<h2>Sweep spec</h2>") > page.index("<h2>")
