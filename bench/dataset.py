@@ -142,7 +142,7 @@ ROW_SCHEMA = pa.schema(
 TIMING_COLUMNS = tuple(
     name
     for name in ROW_SCHEMA.names
-    if name.startswith("lat_") or name in ("wall_s", "real_time_factor", "worker", "timed_from_s")
+    if name.startswith("lat_") or name in ("wall_s", "real_time_factor", "worker")
 )
 
 

@@ -30,7 +30,7 @@ import numpy as np
 import pandas as pd
 
 from bench.actuation import TorqueUse
-from bench.branching import Brancher, BranchesDone
+from bench.branching import BRANCHED_SCENARIOS, Brancher, BranchesDone
 from bench.footsteps import (
     FootstepRecorder,
     PlannedFootstepRecorder,
@@ -302,11 +302,13 @@ def _run_episode(
     (`base_position_true_*`, `base_orientation_true_{w,x,y,z}`, `q_true_<joint>`), for a
     replay (`bench.replay`).
 
-    Timing (`latency_us`, `latency_by_contacts_us`) is over the periods this process ran:
-    `timed_from_s` in the summary is 0 for an episode run alone, the push time for a branch of
-    a group (`brancher`: the periods before were run once for the group, and every branch
-    holds a copy of their timings), and None for a group that ended before its push (every
-    episode of it the one run's copy).
+    Timing (`latency_us`, `latency_by_contacts_us`) is over the periods from `timed_from_s`
+    [s] in the summary on: 0 for a plain scenario; for a protocol push's (`stand_push`,
+    `walk_push`, `BRANCHED_SCENARIOS`) the start of the period its first push is applied in,
+    branched or run alone, so that its timings are the same window either way and, in a
+    branched group (`brancher`), its own (the periods before were run once for the group and
+    every branch holds a copy of them); None when it ended before its push (its timings are
+    then over the whole run, and in a branched group every episode holds that one run's).
 
     `progress` (two floats, for example shared memory that a sweep's parent process reads
     when an episode overruns its wall-clock budget): [0] the index in `PROGRESS_STAGES` of the
@@ -355,7 +357,8 @@ def _run_episode(
         "angular_momentum_error": None,
         **TorqueUse((), np.zeros(0)).summary(),
         "latency_by_contacts_us": {},
-        "timed_from_s": 0.0 if brancher is None else None,
+        # a protocol push's episode is timed from its push on (set then); a plain one from 0
+        "timed_from_s": None if spec.scenario in BRANCHED_SCENARIOS else 0.0,
         "replica": spec.replica,
         **(spec.perturbation or NOMINAL).columns(),
     }
@@ -439,7 +442,8 @@ def _run_episode(
                 # a copy of this process per episode of the group; the parent leaves the loop
                 pending = brancher.split(time.perf_counter() - call_start)
                 wall_start += brancher.waited_s
-                summary["timed_from_s"] = t  # the periods before are the group's, not its own
+            if pending and pending[0].time < t + dt / 2 and summary["timed_from_s"] is None:
+                summary["timed_from_s"] = t  # before it: a branched group's shared periods
             while pending and pending[0].time < t + dt / 2:
                 push = pending.pop(0)
                 sim.push(push.link, np.array(push.impulse_world), push.duration)
@@ -537,7 +541,7 @@ def _run_episode(
     simulated = trace.n * dt
     summary["duration"] = simulated
     summary["real_time_factor"] = simulated / wall if wall > 0 else None
-    # the periods this process timed: a branch's own, from its split on (`timed_from_s`)
+    # the periods the episode's timings are over (`timed_from_s`): a pushed one's from its push
     timed = frame.iloc[round((summary["timed_from_s"] or 0.0) / dt) :]
     summary["latency_us"] = _latency(timed)
     summary["latency_by_contacts_us"] = _latency_by_contacts(timed)

@@ -357,16 +357,18 @@ def _headline_sections(
         result.append(
             (
                 "4. What each controller costs per control period",
-                "From the controller's walks (the nominal walk and the walking pushes: the "
-                "same code every period): the control time per 2 ms period (estimator, "
-                "planner, stabilizer, whole-body layer) [µs], the median over the episodes of "
-                "each one's median, with its distribution-free 95 % interval (from the order "
-                "statistics; none under 6 episodes) and n, the episodes; the median p99; the "
-                "simulator engine's own step for the same periods in the same runs, and the "
-                "stages' medians. The episodes ran minutes apart, so the interval shows how "
-                "this machine's speed moved during the sweep; it says nothing of another "
-                "machine. A controller without a walk from its other episodes (`from` names "
-                "the scenarios).",
+                "From the controller's walks (the nominal walk, and the walking pushes timed "
+                "from their push on, whether they fell after it or not: the same code every "
+                "period; the copies of one run that fell before its push count once): the "
+                "control time per 2 ms period (estimator, planner, stabilizer, whole-body "
+                "layer) [µs], the median over the runs of each one's median, with its "
+                "distribution-free 95 % interval (from the order statistics; none under 6 "
+                "runs) and n, the runs; the median p99; the simulator engine's own step for "
+                "the same periods in the same runs, and the stages' medians. The walking "
+                "pushes of a cell ran one after the other in one worker: the interval shows "
+                "how the timing varied from run to run over those minutes, not over the whole "
+                "sweep or on another machine. A controller without a walk from its other "
+                "episodes (`from` names the scenarios).",
                 cost,
             )
         )

@@ -115,17 +115,18 @@ def paper_benchmarks(episodes: pd.DataFrame) -> pd.DataFrame:
 
 
 def cost_table(episodes: pd.DataFrame) -> pd.DataFrame:
-    """Per controller x simulator, from its walks (the nominal walk and the walking pushes:
-    the same code every period): the control time per period (estimator, planner,
-    stabilizer, whole-body layer) [µs], the median over the episodes of each episode's
-    median, with its distribution-free 95 % interval (`statistics.median_interval`, empty
-    under 6 episodes) and the episodes' count `n`; the median of their p99; the simulator
-    engine's own step for the same period (`sim_engine`, median [µs]) and the ratio of the
+    """Per controller x simulator, from its walks (`tables.timed_walks`: the nominal walk and
+    the walking pushes, each pushed one from its push on): the control time per period
+    (estimator, planner, stabilizer, whole-body layer) [µs], the median over the runs of each
+    run's median, with its distribution-free 95 % interval (`statistics.median_interval`,
+    empty under 6 runs) and the runs' count `n`; the median of their p99; the simulator
+    engine's own step for the same periods (`sim_engine`, median [µs]) and the ratio of the
     two medians (the control's cost in engine steps, measured side by side in the same
-    runs); and each stage's median [µs]. The interval says how much this machine's speed
-    moved the number during the sweep (the episodes ran minutes apart). A controller without
-    a walk (Sherikov et al.'s hierarchy, in the main job) is given from its other nominal
-    episodes; `from` names the scenarios of a row's episodes."""
+    runs); and each stage's median [µs]. In the main job 20 of the 21 runs are the branches
+    of one group, run one after the other in one worker: the interval says how the timing
+    varies from run to run over those minutes, not over the whole sweep or on another
+    machine. A controller without a walk (Sherikov et al.'s hierarchy, in the main job) is
+    given from its other nominal episodes; `from` names the scenarios of a row's runs."""
     everything = nominal(episodes)
     rows = timed_walks(everything)
     missing = ~everything.set_index(KEYS).index.isin(rows.set_index(KEYS).index)

@@ -68,29 +68,40 @@ SHARED_RUN_KEYS = (
     "perturbation",
     "push_time_s",
     "push_step",
+    "push_swing_fraction",
+    "speed",
+    "friction",
+    "scale",
+    "estimator",
+    "whole_body",
+    "git_commit",
+    "results_dir",
 )
-"""The columns that the episodes of one branched group share (`bench.branching.branch_key`:
-everything but the push's impulse and direction)."""
+"""The row columns that the episodes of one branched group share (`bench.branching.branch_key`:
+everything but the push's impulse and direction), and the run's commit and result directory.
+Rows that agree on all of them may still be two runs (a group holds at most 20 episodes):
+counting them as one errs towards fewer runs."""
 
 
 def independently_timed(rows: pd.DataFrame) -> pd.DataFrame:
-    """The rows whose timings (`lat_*`) are separate measurements: an episode run alone, and
-    a branch of a group, which times its own periods from the push on (`timed_from_s`, the
-    runner's); of the episodes of a group that ended before its push (`timed_from_s` None:
-    copies of one run) and of branched rows written before `timed_from_s` (2026-11-28: each
-    held the group's periods as well as its own), one per group."""
+    """The rows whose timings (`lat_*`) are separate measurements: a plain episode, and a
+    protocol push's, timed from its push on (`timed_from_s`, the runner's: in a branched group
+    the periods before are shared); of the pushed episodes that ended before their push
+    (`timed_from_s` None: in a group, copies of one run) and of pushed rows written before
+    `timed_from_s` (2026-11-28: each branch held the group's periods as well as its own), one
+    per group (`SHARED_RUN_KEYS`)."""
     timed = rows["timed_from_s"] if "timed_from_s" in rows else pd.Series(math.nan, rows.index)
     shared = rows["scenario"].isin(BRANCHED_SCENARIOS) & timed.isna()
     keys = [k for k in SHARED_RUN_KEYS if k in rows.columns]
-    first = ~rows[shared].reindex(columns=keys).astype(str).duplicated()
+    first = ~rows.loc[shared, keys].duplicated()  # NaN equals NaN here
     return pd.concat([rows[~shared], rows[shared][first]]).sort_index()
 
 
 def timed_walks(episodes: pd.DataFrame) -> pd.DataFrame:
     """The nominal walks, pushed or not (scenarios `TIMED_WALKS`), each a separate timing
     (`independently_timed`): the episodes a controller's time per period is the median over
-    (the same code runs every period; 21 in the main job, run minutes apart, so that their
-    spread shows how this machine's speed moved during the sweep)."""
+    (the same code every period; in the main job the walk and the 20 walking pushes, timed
+    from their push on, whether they fell after it or not)."""
     rows = nominal(episodes)
     return independently_timed(rows[rows["scenario"].isin(TIMED_WALKS)])
 
@@ -432,12 +443,18 @@ def reaches(episodes: pd.DataFrame) -> pd.DataFrame:
     return rows[rows["scenario"].isin(REACH_SCENARIOS)]
 
 
+HAND_PLANNERS = ("capturability_hierarchy",)
+"""The planners that drove a hand before rows recorded `hand_task` (2026-11-28)."""
+
+
 def drives_hand(row: pd.Series) -> bool:
-    """Whether the episode's planner drove the hand to the reach's targets (the row's
-    `hand_task`, `Planner.tracks_hand_targets`); True for rows written before it was recorded
-    (2026-11-28), whose hand errors the report cannot tell apart."""
+    """Whether the episode's planner drove the hand to the reach's targets: the row's
+    `hand_task` (`Planner.tracks_hand_targets`); for rows written before it was recorded,
+    whether the planner is one of `HAND_PLANNERS`."""
     value = row.get("hand_task")
-    return True if value is None or pd.isna(value) else bool(value)
+    if value is None or pd.isna(value):
+        return row.get("planner") in HAND_PLANNERS
+    return bool(value)
 
 
 def solve_time_stats(trace: pd.DataFrame, column: str = "t_hierarchy_us") -> dict[str, float]:
@@ -460,8 +477,8 @@ def reach_table(
     episodes: pd.DataFrame, solve_times: Mapping[str, Mapping[str, float]] | None = None
 ) -> pd.DataFrame:
     """Sherikov et al. 2014's Tests 1-2, one row per `reach` / `reach_push` episode: status,
-    final hand error [cm] (empty after a fall, and for a planner that drives no hand: the
-    row's `hand_task` False), steps taken, pass (status ok and a final hand error under
+    final hand error [cm] (only for an episode that ended ok with a planner that drives the
+    hand, `drives_hand`), steps taken, pass (status ok and a final hand error under
     `REACH_PASS_HAND_ERROR_M`: "yes" / "no"; "n/a (no hand task)") and the hierarchy's solve
     time per period [ms] (mean, p99, max). Solve times come from `solve_times` (episode id ->
     {mean, p99, max} [µs], `solve_time_stats` of its stored trace), else from the row's
@@ -493,7 +510,7 @@ def reach_table(
             "scenario": row["scenario"],
             "seed": row.get("seed"),
             "status": row["status"],
-            "hand error cm": 100.0 * error if hand and row["status"] != "fell" else math.nan,
+            "hand error cm": 100.0 * error if hand and row["status"] == "ok" else math.nan,
             "steps": _number(row.get("steps_taken")),
             "pass": passed if hand else "n/a (no hand task)",
         }

@@ -336,6 +336,22 @@ def test_hand_task_is_the_planners_flag():
     assert {name for name, flag in flags.items() if flag} == {"capturability_hierarchy"}
 
 
+def test_the_hierarchy_records_that_it_drives_the_hand():
+    result = run_episode(
+        EpisodeSpec(
+            "capturability_hierarchy",
+            "passthrough",
+            "mujoco",
+            "reach",
+            duration=0.02,
+            estimator="ground_truth",
+            whole_body="inverse_dynamics",
+        )
+    )
+    assert result.summary["status"] == "ok"
+    assert result.summary["hand_task"] is True
+
+
 def test_no_hand_error_without_hand_targets():
     result = run_episode(EpisodeSpec("hold", "posture", "mujoco", "stand", duration=0.1))
     assert result.summary["status"] == "ok"

@@ -256,6 +256,17 @@ def test_reach_rows_of_a_planner_without_a_hand_task_show_no_hand_error():
     assert list(table["pass"]) == ["yes", "yes", "n/a (no hand task)"]
     np.testing.assert_allclose(table["hand error cm"].iloc[:2], [1.0, 1.0])
     assert np.isnan(table["hand error cm"].iloc[2])
+    # a row written before hand_task: only the hierarchy's planner drove a hand then
+    old = _episode("e4", "reach", "ok", 0.896, controller="hold+posture", planner="hold")
+    assert tables.reach_table(pd.DataFrame([old])).loc[0, "pass"] == "n/a (no hand task)"
+
+
+def test_a_reach_that_ended_in_an_error_shows_no_hand_error():
+    """The hand's distance when a controller failed is no final hand error."""
+    episodes = pd.DataFrame([_episode("e1", "reach", "error", 0.3, hand_task=True)])
+    table = tables.reach_table(episodes)
+    assert np.isnan(table.loc[0, "hand error cm"])
+    assert table.loc[0, "pass"] == "no"
 
 
 def test_reach_table_takes_hierarchy_latency_columns_when_rows_have_them():

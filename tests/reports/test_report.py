@@ -616,4 +616,24 @@ def test_the_sweep_spec_is_folded_and_indented(tmp_path: Path):
     assert '\n    "survival_time": 0.7\n' in folded[1]
     assert "- **sweep spec**: at the end of the report" in markdown
     assert "<details><summary>sweep spec</summary><pre>{\n  &quot;name&quot;" in page
-    assert page.index("<h2>Sweep spec</h2>") > page.index("<h2>")
+    assert page.rindex("<h2>") == page.index("<h2>Sweep spec</h2>")  # the last section
+
+
+def test_runs_of_a_branched_group_count_once_when_they_share_their_timings():
+    """Rows of a pushed scenario without `timed_from_s` (written before it, or ended before
+    their push) share one run's timings: one per group; a row with it, and a plain
+    scenario's row, are runs of their own."""
+    base = {"controller": "a", "sim": "mujoco", "scenario": "walk_push", "push_time_s": 3.1}
+    rows = pd.DataFrame(
+        [
+            {**base, "lat_control_total_median_us": 300.0},
+            {**base, "lat_control_total_median_us": 310.0},
+            {**base, "sim": "pybullet", "lat_control_total_median_us": 320.0},
+            {**base, "scenario": "walk", "push_time_s": None},
+            {**base, "scenario": "walk", "push_time_s": None},
+        ]
+    )
+    kept = tables.independently_timed(rows)  # no timed_from_s column: rows before it
+    assert list(kept.index) == [0, 2, 3, 4]
+    rows["timed_from_s"] = [3.1, 3.1, None, 0.0, 0.0]
+    assert list(tables.independently_timed(rows).index) == [0, 1, 2, 3, 4]
