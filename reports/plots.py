@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import textwrap
 from collections.abc import Mapping, Sequence
 from pathlib import Path
 
@@ -106,7 +107,7 @@ def walk_plot(traces: Mapping[str, pd.DataFrame], path: str | Path) -> Path:
     actual) along x and y against time, one row per controller."""
     path = Path(path)
     n = max(len(traces), 1)
-    figure, axes = plt.subplots(n, 2, figsize=(10, 2.6 * n), squeeze=False, sharex=True)
+    figure, axes = plt.subplots(n, 2, figsize=(10, 2.9 * n), squeeze=False, sharex=True)
     for row, (label, trace) in enumerate(traces.items()):
         for column, axis_name in enumerate(("x", "y")):
             axis = axes[row][column]
@@ -135,7 +136,9 @@ def walk_plot(traces: Mapping[str, pd.DataFrame], path: str | Path) -> Path:
                 label="CoM actual",
             )
             axis.set_ylabel(f"{axis_name} [m]")
-            axis.set_title(f"{label}: {axis_name}", fontsize=9)
+            # two columns of long labels ("controller [estimator] @ robot (sim, status)"):
+            # wrapped, or the neighbours' titles overlap
+            axis.set_title(textwrap.fill(f"{label}: {axis_name}", 60), fontsize=8)
             axis.grid(alpha=0.3)
             limits = planned_limits(trace, axis_name)
             if limits is not None:
