@@ -253,3 +253,47 @@ def damping_control(
         targets, quaternion_rows_of_vectors(compliance_angular)
     )
     return compliant_position, compliant_orientation
+
+
+@njit(cache=True)
+def unit_face_rows(faces: np.ndarray, sample: np.ndarray, points: np.ndarray) -> np.ndarray:
+    """The face form's constraint rows F_k T_k^-1 scaled to unit norm (`centroidal.
+    mpc_formulations.FaceForm`): row i of `faces` (m, 6), a face [a_f, a_n] of its sample's
+    cone with moments about the origin, becomes [a_f + a_n x c-hat_k, a_n] / norm for the
+    moment about c-hat_k = points[sample[i]] (points (N, 3) [m]): a . (c x f) = f . (a x c).
+    The same arithmetic, in the same order, as the numpy expressions it replaced (the rows
+    are equal to the bit: `tests/centroidal/test_kernel_equivalence.py`)."""
+    m = faces.shape[0]
+    rows = np.empty((m, 6))
+    for i in range(m):
+        c = points[sample[i]]
+        a0, a1, a2 = faces[i, 3], faces[i, 4], faces[i, 5]
+        rows[i, 0] = faces[i, 0] + (a1 * c[2] - a2 * c[1])
+        rows[i, 1] = faces[i, 1] + (a2 * c[0] - a0 * c[2])
+        rows[i, 2] = faces[i, 2] + (a0 * c[1] - a1 * c[0])
+        rows[i, 3], rows[i, 4], rows[i, 5] = a0, a1, a2
+        # even and odd terms summed apart, then added: numpy's einsum("ij,ij->i") order,
+        # so that the rows are the same to the bit as the expression this replaced
+        even = rows[i, 0] * rows[i, 0] + rows[i, 2] * rows[i, 2] + rows[i, 4] * rows[i, 4]
+        odd = rows[i, 1] * rows[i, 1] + rows[i, 3] * rows[i, 3] + rows[i, 5] * rows[i, 5]
+        norm = np.sqrt(even + odd)
+        for j in range(6):
+            rows[i, j] /= norm
+    return rows
+
+
+@njit(cache=True)
+def face_rows_hold(
+    rows: np.ndarray, sample: np.ndarray, inputs: np.ndarray, slack: np.ndarray
+) -> np.ndarray:
+    """Whether each unit face row holds at the inputs U (N, 6): rows[i] . U[sample[i]] <=
+    slack[i] (the face form's F T^-1 U <= 0, with quadprog's anti-cycling slack, from each
+    row's 6 nonzeros)."""
+    m = rows.shape[0]
+    holds = np.empty(m, dtype=np.bool_)
+    for i in range(m):
+        u = inputs[sample[i]]
+        even = rows[i, 0] * u[0] + rows[i, 2] * u[2] + rows[i, 4] * u[4]
+        odd = rows[i, 1] * u[1] + rows[i, 3] * u[3] + rows[i, 5] * u[5]
+        holds[i] = even + odd <= slack[i]  # einsum's order, as for the norms
+    return holds

@@ -27,6 +27,7 @@ import scipy.linalg
 import scipy.sparse
 
 from centroidal.cone_faces import cone_faces
+from centroidal.kernels import face_rows_hold, unit_face_rows
 from centroidal.mpc import (
     MpcModel,
     MpcProblem,
@@ -36,7 +37,6 @@ from centroidal.mpc import (
     sparse_form,
     split,
 )
-from centroidal.wrench import cross
 
 DENSE_SOLVERS = ("daqp", "proxqp", "quadprog")
 SPARSE_SOLVERS = ("osqp", "clarabel", "proxqp")
@@ -377,27 +377,61 @@ class FaceForm:
             factor = scipy.linalg.cholesky(self.hessian)  # R, upper triangular
             self._inverse_factor = scipy.linalg.solve_triangular(factor, np.eye(len(factor)))
         self._faces: dict[int, tuple[np.ndarray, np.ndarray]] = {}
-        # (sizes, flat positions, buffer, each row's sample), kept while the sizes stay
-        self._layout: tuple[list[int], np.ndarray, np.ndarray, np.ndarray] | None = None
+        # (the samples' face arrays, their stack (m, 6), each row's sample (m,)), kept while
+        # every sample keeps its contact phase (`_stacked`)
+        self._stack: tuple[list[np.ndarray], np.ndarray, np.ndarray] | None = None
+        # (sizes, flat positions, buffer), kept while the sizes stay (`face:daqp`'s matrix)
+        self._layout: tuple[list[int], np.ndarray, np.ndarray] | None = None
         self._active: tuple[list[int], np.ndarray] | None = None  # (sizes, rows) last active
         self.working_set = True  # False: quadprog on every row (the reference, for tests)
         self.working_rows = 0  # rows quadprog was given in the last solve
+
+    def _stacked(self, faces: list[np.ndarray]) -> tuple[np.ndarray, np.ndarray]:
+        """The samples' faces stacked (m, 6) and each row's sample (m,), kept while every
+        sample has the same face array (the same contact phase): on a walk the phases move
+        past the horizon's samples every 10-12 periods, not every period."""
+        kept = self._stack
+        if (
+            kept is None
+            or len(kept[0]) != len(faces)
+            or any(a is not b for a, b in zip(kept[0], faces, strict=True))
+        ):
+            sizes = [len(f) for f in faces]
+            kept = self._stack = (
+                list(faces),
+                np.vstack(faces),
+                np.repeat(np.arange(len(faces)), sizes),
+            )
+        return kept[1], kept[2]
 
     def _negated_constraint(self, sizes: list[int], rows: np.ndarray) -> np.ndarray:
         """The block-diagonal constraint matrix, negated, in a buffer kept while the samples'
         face counts stay the same (a fresh 0.6 MB array every period costs more than the
         solve: page faults); `rows` (m, 6) is negated in place and written at flat positions
-        kept with the buffer."""
+        kept with the buffer. Only a solver given every row uses it (`face:daqp`); quadprog's
+        working set is built from its own rows (`_working_constraint`)."""
         if self._layout is None or self._layout[0] != sizes:
             n = self.model.horizon
             sample = np.repeat(np.arange(n), sizes)
             columns = 6 * sample[:, None] + np.arange(6)
             flat = np.arange(len(rows))[:, None] * (6 * n) + columns  # row-major positions
-            self._layout = (sizes, flat.ravel(), np.zeros((len(rows), 6 * n)), sample)
-        _, flat, buffer, _ = self._layout
+            self._layout = (sizes, flat.ravel(), np.zeros((len(rows), 6 * n)))
+        _, flat, buffer = self._layout
         np.negative(rows, out=rows)
         buffer.put(flat, rows)
         return buffer
+
+    def _working_constraint(
+        self, rows: np.ndarray, sample: np.ndarray, index: np.ndarray
+    ) -> np.ndarray:
+        """quadprog's C (6N, w) for the working rows `index` (w of them): column j holds
+        -rows[index[j]] at its sample's 6 inputs, so that C'U >= -slack is F T^-1 U <= slack
+        on those rows. Built from the w rows alone (the full (m, 6N) matrix is 0.6 MB)."""
+        constraint = np.zeros((len(index), 6 * self.model.horizon))
+        for j, i in enumerate(index.tolist()):
+            start = 6 * int(sample[i])
+            constraint[j, start : start + 6] = -rows[i]
+        return constraint.T
 
     @staticmethod
     @functools.cache
@@ -410,7 +444,7 @@ class FaceForm:
         return ANTI_CYCLING_SLACK * (1.0 + np.arange(m) / m)
 
     def _quadprog(
-        self, negated: np.ndarray, rows: np.ndarray, gradient: np.ndarray, sizes: list[int]
+        self, rows: np.ndarray, sample: np.ndarray, gradient: np.ndarray, sizes: list[int]
     ) -> np.ndarray:
         """quadprog on a working set of the rows, grown until no other row is violated: the
         same optimum as on all rows (the QP is strictly convex; every row left out holds at
@@ -418,16 +452,15 @@ class FaceForm:
         one or two of the 600-750 faces are active (measured on `walk`), and quadprog's
         wrapper copies every row it is given. The working set starts from the rows violated
         at the unconstrained optimum and the rows active in the last period (while the
-        samples' face counts are the same). `negated` (m, 6N) block-diagonal, `rows` its
-        (m, 6) nonzero blocks (already negated), `sizes` the samples' face counts of the
-        layout `_negated_constraint` kept (its rows' samples are reused here)."""
+        samples' face counts are the same). `rows` (m, 6) the unit face rows (F T^-1 U <= 0
+        row by row), `sample` (m,) each row's sample, `sizes` the samples' face counts."""
         slack = self._slack(len(rows))
         factor = self._inverse_factor  # R^-1, H = R^T R: H^-1 a = R^-1 R^-T a
-        sample = self._layout[3]
+        n = self.model.horizon
 
         def holds(u: np.ndarray) -> np.ndarray:
-            """Each row's C'u >= -slack, from its 6 nonzeros."""
-            return np.einsum("ij,ij->i", rows, u.reshape(-1, 6)[sample]) >= -slack
+            """Each row's F T^-1 u <= slack (C'u >= -slack), from its 6 nonzeros."""
+            return face_rows_hold(rows, sample, u.reshape(n, 6), slack)
 
         working = ~holds(factor @ (factor.T @ -gradient))
         if not self.working_set:
@@ -441,7 +474,12 @@ class FaceForm:
             else:
                 try:
                     result = quadprog.solve_qp(
-                        factor, -gradient, negated[index].T, -slack[index], 0, True
+                        factor,
+                        -gradient,
+                        self._working_constraint(rows, sample, index),
+                        -slack[index],
+                        0,
+                        True,
                     )
                 except ValueError as exc:  # "constraints are inconsistent, no solution"
                     raise MpcSolverError(f"{self.name}: {exc}") from exc
@@ -478,22 +516,20 @@ class FaceForm:
             raise ValueError(f"{self.name} needs the problem's generators and points")
         n = self.model.horizon
         faces = [self.faces_of(g) for g in problem.generators]
-        sizes = [len(f) for f in faces]
-        stacked = np.vstack(faces)  # (m, 6), moments about the origin
-        about = np.repeat(np.asarray(problem.points, dtype=float), sizes, axis=0)
-        rows = stacked.copy()
-        rows[:, :3] += cross(stacked[:, 3:], about)  # F T^-1: a . (c x f) = f . (a x c)
-        # unit rows: the same cone (each row <= 0 scaled by a positive number), but a
-        # well-scaled active set; with rows of norms 0.98-2.7 quadprog's dual active set
-        # cycled for ever at friction 0.01 (tests/planners/test_linear_mpc.py)
-        rows /= np.sqrt(np.einsum("ij,ij->i", rows, rows))[:, None]
-        negated = self._negated_constraint(sizes, rows)  # -(F T^-1), block-diagonal (m, 6N)
+        stacked, sample = self._stacked(faces)  # (m, 6) moments about the origin, (m,)
+        # F T^-1 (the moment about c-hat_k) in unit rows (`unit_face_rows`): the same cone
+        # (each row <= 0 scaled by a positive number), but a well-scaled active set; with rows
+        # of norms 0.98-2.7 quadprog's dual active set cycled for ever at friction 0.01
+        # (tests/planners/test_linear_mpc.py)
+        rows = unit_face_rows(stacked, sample, np.asarray(problem.points, dtype=float))
         gradient = input_gradient(self.model, problem)
         if not len(rows):  # every sample's cone is the whole space (grasps): unconstrained
             return np.linalg.solve(self.hessian, -gradient).reshape(n, 6)
+        sizes = [len(f) for f in faces]
         if self.solver == "quadprog":  # min 1/2 U'HU - a'U  s.t.  C'U >= -slack
-            solution = self._quadprog(negated, rows, gradient, sizes)
+            solution = self._quadprog(rows, sample, gradient, sizes)
         else:
+            negated = self._negated_constraint(sizes, rows)  # -(F T^-1), block-diagonal (m, 6N)
             with np.errstate(all="ignore"):
                 solution = qpsolvers.solve_qp(
                     self.hessian, gradient, G=-negated, h=np.zeros(len(rows)), solver=self.solver

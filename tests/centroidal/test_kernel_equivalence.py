@@ -1,6 +1,7 @@
 """Issue 16's compiled kernels against the numpy formulas they replaced (kept here as the
 references): the damping control of eqs. 15-16, the IK's QP terms and pose errors, the
-estimator's one-pass kinematics, the scenario lookups by bisection. Bounds are rounding."""
+estimator's one-pass kinematics, the scenario lookups by bisection, the linear MPC's face
+rows. Bounds are rounding."""
 
 import numpy as np
 import pinocchio as pin
@@ -8,9 +9,11 @@ import pytest
 from scipy.spatial.transform import Rotation
 
 from bench.scenarios import make_scenario
-from centroidal.kernels import damping_control, pose_errors
+from centroidal.cone_faces import cone_faces
+from centroidal.kernels import damping_control, face_rows_hold, pose_errors, unit_face_rows
 from estimators.kinematic_inertial import KinematicInertialEstimator
 from robots.humanoid import humanoid
+from robots.limbs import PhaseContacts, limb_surfaces
 from robots.model import RobotModel
 from robots.scene import Scene
 from sims.base import make_simulator
@@ -256,3 +259,31 @@ def test_scenario_lookups_by_bisection_equal_the_scan(model, name):
             if a is not None:
                 np.testing.assert_array_equal(a[0], b[0])
                 np.testing.assert_array_equal(a[1], b[1])
+
+
+def test_mpc_face_rows_are_the_numpy_expression_to_the_bit(model):
+    """The face form's unit rows F_k T_k^-1 / norm (`unit_face_rows`) and its check C'U >=
+    -slack (`face_rows_hold`) against the numpy expressions `FaceForm.solve` had before them:
+    equal to the bit (the same products and sums in the same order), so that the MPC's
+    answers did not change. Faces of `walk`'s double and single supports, 20 samples."""
+    scenario = make_scenario("walk", model)
+    contacts = PhaseContacts(limb_surfaces(model.robot, scenario.scene.friction))
+    phases = [scenario.phase_at(t) for t in (0.5, 1.0)]
+    cones = [cone_faces(contacts(phase)[0].matrix) for phase in phases]
+    assert phases[0].limbs != phases[1].limbs  # two feet, then one
+    rng = np.random.default_rng(5)
+    faces = [cones[k % 3 == 0] for k in range(20)]
+    sizes = [len(f) for f in faces]
+    stacked, sample = np.vstack(faces), np.repeat(np.arange(20), sizes)
+    points = rng.normal(scale=0.3, size=(20, 3)) + np.array([0.0, 0.0, 0.8])
+    about = np.repeat(points, sizes, axis=0)
+    rows = stacked.copy()
+    rows[:, :3] += np.cross(stacked[:, 3:], about)
+    rows /= np.sqrt(np.einsum("ij,ij->i", rows, rows))[:, None]
+    kernel = unit_face_rows(stacked, sample, points)
+    assert np.array_equal(kernel, rows)
+    inputs = rng.normal(scale=50.0, size=(20, 6)) + np.array([0.0, 0.0, 570.0, 0.0, 0.0, 0.0])
+    slack = np.full(len(rows), 1e-9)
+    expected = np.einsum("ij,ij->i", -rows, inputs[sample]) >= -slack
+    assert 0 < expected.sum() < len(rows)  # some rows hold, some do not
+    assert np.array_equal(face_rows_hold(kernel, sample, inputs, slack), expected)
