@@ -28,6 +28,7 @@ from __future__ import annotations
 
 import contextlib
 import ctypes
+import gc
 import math
 import os
 import pickle
@@ -43,6 +44,19 @@ from bench.executors import EpisodeTimeout, progress_stage
 
 BRANCHED_SCENARIOS = ("stand_push", "walk_push")
 """Scenarios whose episodes differ only in their push (impulse and direction)."""
+
+PUSH_TIMING_DELAY_PERIODS = 5
+"""A pushed episode of `BRANCHED_SCENARIOS` is timed from this many control periods after the
+period its first push is applied in, branched or run alone (`bench.runner`; 10 ms at 2 ms),
+so that a branch's timings leave out the periods right after its fork. A forked child first
+runs on the parent's memory pages and copies each page it writes to (copy-on-write): measured
+(2026-11-29, `preview_control` walking pushes in MuJoCo, each branch against the same episode
+run alone right after it, 10 pairs), the first period after the fork took a median 8.5x the
+same period run alone (4.3-9.6x), periods 1-4 1.6x, 5-49 1.4x and 50-199 1.2x; from 200 on
+1.0x. With the collector's objects frozen before the fork (`gc.freeze`, as `Brancher.split`
+does: a collection in the child otherwise writes to every tracked object's header), 6.1x, 1.4x,
+1.0x and 1.0x. The first period's copying cannot be avoided (the child writes to every object
+it uses); leaving out the first 5 periods leaves out most of it, in both ways of running."""
 
 
 def can_fork() -> bool:
@@ -103,6 +117,10 @@ class Brancher:
         self.split_done = True
         begin = time.perf_counter()
         parent = os.getpid()
+        # the objects so far out of the collector's reach in the children, whose collections
+        # would otherwise write to (and so copy) every page holding a tracked object
+        # (`PUSH_TIMING_DELAY_PERIODS`); the parent unfreezes them when its children are done
+        gc.freeze()
         for index in range(len(self.pending)):
             started = time.perf_counter()
             try:
@@ -125,6 +143,7 @@ class Brancher:
             os.close(write_fd)
             budget = self.budgets_s[index] - common_s
             self.results[index] = self._collect(pid, read_fd, started, budget)
+        gc.unfreeze()
         raise BranchesDone
 
     def finish_child(self, result: Any) -> None:

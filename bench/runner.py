@@ -30,7 +30,12 @@ import numpy as np
 import pandas as pd
 
 from bench.actuation import TorqueUse
-from bench.branching import BRANCHED_SCENARIOS, Brancher, BranchesDone
+from bench.branching import (
+    BRANCHED_SCENARIOS,
+    PUSH_TIMING_DELAY_PERIODS,
+    Brancher,
+    BranchesDone,
+)
 from bench.footsteps import (
     FootstepRecorder,
     PlannedFootstepRecorder,
@@ -304,11 +309,13 @@ def _run_episode(
 
     Timing (`latency_us`, `latency_by_contacts_us`) is over the periods from `timed_from_s`
     [s] in the summary on: 0 for a plain scenario; for a protocol push's (`stand_push`,
-    `walk_push`, `BRANCHED_SCENARIOS`) the start of the period its first push is applied in,
-    branched or run alone, so that its timings are the same window either way and, in a
-    branched group (`brancher`), its own (the periods before were run once for the group and
-    every branch holds a copy of them); None when it ended before its push (its timings are
-    then over the whole run, and in a branched group every episode holds that one run's).
+    `walk_push`, `BRANCHED_SCENARIOS`) the start of the period `PUSH_TIMING_DELAY_PERIODS`
+    after the one its first push is applied in, branched or run alone, so that its timings are
+    the same window either way and, in a branched group (`brancher`), its own (the periods
+    before were run once for the group and every branch holds a copy of them), without the
+    periods right after the fork (copy-on-write); None when it ended before its push (its
+    timings are then over the whole run, and in a branched group every episode holds that one
+    run's); none at all when it ended within those periods after the push.
 
     `progress` (two floats, for example shared memory that a sweep's parent process reads
     when an episode overruns its wall-clock budget): [0] the index in `PROGRESS_STAGES` of the
@@ -443,7 +450,8 @@ def _run_episode(
                 pending = brancher.split(time.perf_counter() - call_start)
                 wall_start += brancher.waited_s
             if pending and pending[0].time < t + dt / 2 and summary["timed_from_s"] is None:
-                summary["timed_from_s"] = t  # before it: a branched group's shared periods
+                # before it: a branched group's shared periods, and the fork's first periods
+                summary["timed_from_s"] = (k + PUSH_TIMING_DELAY_PERIODS) * dt
             while pending and pending[0].time < t + dt / 2:
                 push = pending.pop(0)
                 sim.push(push.link, np.array(push.impulse_world), push.duration)
@@ -541,7 +549,8 @@ def _run_episode(
     simulated = trace.n * dt
     summary["duration"] = simulated
     summary["real_time_factor"] = simulated / wall if wall > 0 else None
-    # the periods the episode's timings are over (`timed_from_s`): a pushed one's from its push
+    # the periods the episode's timings are over (`timed_from_s`): a pushed one's from just
+    # after its push (none if it ended before then)
     timed = frame.iloc[round((summary["timed_from_s"] or 0.0) / dt) :]
     summary["latency_us"] = _latency(timed)
     summary["latency_by_contacts_us"] = _latency_by_contacts(timed)

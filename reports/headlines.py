@@ -116,7 +116,7 @@ def paper_benchmarks(episodes: pd.DataFrame) -> pd.DataFrame:
 
 def cost_table(episodes: pd.DataFrame) -> pd.DataFrame:
     """Per controller x simulator, from its walks (`tables.timed_walks`: the nominal walk and
-    the walking pushes, each pushed one from its push on): the control time per period
+    the walking pushes, each pushed one from just after its push on): the control time per period
     (estimator, planner, stabilizer, whole-body layer) [µs], the median over the runs of each
     run's median, with its distribution-free 95 % interval (`statistics.median_interval`,
     empty under 6 runs) and the runs' count `n`; the median of their p99; the simulator

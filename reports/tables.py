@@ -85,11 +85,11 @@ counting them as one errs towards fewer runs."""
 
 def independently_timed(rows: pd.DataFrame) -> pd.DataFrame:
     """The rows whose timings (`lat_*`) are separate measurements: a plain episode, and a
-    protocol push's, timed from its push on (`timed_from_s`, the runner's: in a branched group
-    the periods before are shared); of the pushed episodes that ended before their push
-    (`timed_from_s` None: in a group, copies of one run) and of pushed rows written before
-    `timed_from_s` (2026-11-28: each branch held the group's periods as well as its own), one
-    per group (`SHARED_RUN_KEYS`)."""
+    protocol push's, timed from just after its push on (`timed_from_s`, the runner's: in a
+    branched group the periods before are shared); of the pushed episodes that ended before
+    their push (`timed_from_s` None: in a group, copies of one run) and of pushed rows written
+    before `timed_from_s` (2026-11-28: each branch held the group's periods as well as its
+    own), one per group (`SHARED_RUN_KEYS`)."""
     timed = rows["timed_from_s"] if "timed_from_s" in rows else pd.Series(math.nan, rows.index)
     shared = rows["scenario"].isin(BRANCHED_SCENARIOS) & timed.isna()
     keys = [k for k in SHARED_RUN_KEYS if k in rows.columns]
@@ -101,7 +101,7 @@ def timed_walks(episodes: pd.DataFrame) -> pd.DataFrame:
     """The nominal walks, pushed or not (scenarios `TIMED_WALKS`), each a separate timing
     (`independently_timed`): the episodes a controller's time per period is the median over
     (the same code every period; in the main job the walk and the 20 walking pushes, timed
-    from their push on, whether they fell after it or not)."""
+    from just after their push on, whether they fell after it or not)."""
     rows = nominal(episodes)
     return independently_timed(rows[rows["scenario"].isin(TIMED_WALKS)])
 

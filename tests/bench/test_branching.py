@@ -4,15 +4,23 @@ with branching writes the rows of one without."""
 
 from __future__ import annotations
 
+import gc
 import os
 import pickle
 import signal
 from dataclasses import replace
 from pathlib import Path
+from types import SimpleNamespace
 
 import pytest
 
-from bench.branching import Brancher, branch_key, run_group
+from bench.branching import (
+    PUSH_TIMING_DELAY_PERIODS,
+    Brancher,
+    BranchesDone,
+    branch_key,
+    run_group,
+)
 from bench.executors import EpisodeTimeout
 from bench.runner import EpisodeSpec, run_episode
 from bench.sweep import EpisodeGroup, group_for_branching, run_sweep
@@ -69,14 +77,16 @@ def test_branched_episodes_are_the_episodes_run_alone_bit_for_bit(sim, scenario)
     assert len({round(r.trace["com_actual_y"].iloc[-1], 9) for r in alone}) == 3
     for result in branched:  # each reports its own wall-clock time, not the group's
         assert 0 < result.wall_s < sum(r.wall_s for r in branched)
-    # ... and times its own periods: from the push on, not the copies of the group's before;
-    # run alone, the same window (`_assert_same` compared timed_from_s)
+    # ... and times its own periods: from just after the push on (not the copies of the
+    # group's before, nor the fork's first periods); run alone, the same window
+    # (`_assert_same` compared timed_from_s)
     push_time = specs[0].push_time if scenario == "stand_push" else None
     for b, a in zip(branched, alone, strict=True):
         start = b.summary["timed_from_s"]
         assert start > 0
         if push_time is not None:
-            assert abs(start - push_time) < 0.002 + 1e-9
+            delay = PUSH_TIMING_DELAY_PERIODS * 0.002
+            assert abs(start - (push_time + delay)) < 0.002 + 1e-9
         for result in (b, a):
             own = result.trace["t_control_total_us"][result.trace["time"] >= start - 1e-9]
             assert 0 < len(own) < len(result.trace)
@@ -211,3 +221,21 @@ def test_a_sweep_with_branching_writes_the_rows_of_one_without(tmp_path: Path):
     left = physical(branched.sort_values(order))
     right = physical(alone.sort_values(order))
     assert left.equals(right)
+
+
+def test_children_run_with_the_parents_objects_frozen():
+    """`Brancher.split` freezes the collector's objects before it forks, so that a child's
+    collections do not write to (and copy) every page that holds one (`PUSH_TIMING_DELAY_
+    PERIODS`), and the parent unfreezes them once its children are done (a worker runs many
+    groups: nothing frozen may outlive one)."""
+    gc.unfreeze()
+    brancher = Brancher(2, [60.0, 60.0], None)
+    push = SimpleNamespace(time=1.0)
+    brancher.prepare([[push], [push]])
+    try:
+        brancher.split(0.0)
+    except BranchesDone:
+        assert brancher.results == [True, True]  # each child saw the objects frozen
+        assert gc.get_freeze_count() == 0
+    else:  # in a child: report and exit at once (never back into pytest)
+        brancher.finish_child(gc.get_freeze_count() > 0)
