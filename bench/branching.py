@@ -119,31 +119,36 @@ class Brancher:
         parent = os.getpid()
         # the objects so far out of the collector's reach in the children, whose collections
         # would otherwise write to (and so copy) every page holding a tracked object
-        # (`PUSH_TIMING_DELAY_PERIODS`); the parent unfreezes them when its children are done
+        # (`PUSH_TIMING_DELAY_PERIODS`); the parent unfreezes them however it leaves (a child
+        # returns from inside the loop, and stays frozen)
+        was_frozen = gc.get_freeze_count() > 0
         gc.freeze()
-        for index in range(len(self.pending)):
-            started = time.perf_counter()
-            try:
-                read_fd, write_fd = os.pipe()
+        try:
+            for index in range(len(self.pending)):
+                started = time.perf_counter()
                 try:
-                    pid = os.fork()
-                except OSError:
+                    read_fd, write_fd = os.pipe()
+                    try:
+                        pid = os.fork()
+                    except OSError:
+                        os.close(read_fd)
+                        os.close(write_fd)
+                        raise
+                except OSError as exc:  # no process or pipe for this one: its result says so
+                    self.results[index] = RuntimeError(f"could not branch the episode: {exc}")
+                    continue
+                if pid == 0:  # the child: episode `index`
                     os.close(read_fd)
-                    os.close(write_fd)
-                    raise
-            except OSError as exc:  # no process or pipe for this one: its result says so
-                self.results[index] = RuntimeError(f"could not branch the episode: {exc}")
-                continue
-            if pid == 0:  # the child: episode `index`
-                os.close(read_fd)
-                self.index, self._write_fd = index, write_fd
-                _die_with_parent(parent)
-                self.waited_s = time.perf_counter() - begin
-                return self.pending[index]
-            os.close(write_fd)
-            budget = self.budgets_s[index] - common_s
-            self.results[index] = self._collect(pid, read_fd, started, budget)
-        gc.unfreeze()
+                    self.index, self._write_fd = index, write_fd
+                    _die_with_parent(parent)
+                    self.waited_s = time.perf_counter() - begin
+                    return self.pending[index]
+                os.close(write_fd)
+                budget = self.budgets_s[index] - common_s
+                self.results[index] = self._collect(pid, read_fd, started, budget)
+        finally:
+            if os.getpid() == parent and not was_frozen:
+                gc.unfreeze()
         raise BranchesDone
 
     def finish_child(self, result: Any) -> None:
@@ -191,7 +196,12 @@ class Brancher:
             with contextlib.suppress(Exception):
                 return pickle.loads(b"".join(chunks))
         if os.WIFSIGNALED(status):
-            how = f"was killed by {signal.Signals(os.WTERMSIG(status)).name}"
+            number = os.WTERMSIG(status)
+            try:
+                name = signal.Signals(number).name
+            except ValueError:  # a signal the enum does not name (real-time signals)
+                name = f"signal {number}"
+            how = f"was killed by {name}"
         else:
             how = f"exited with status {os.WEXITSTATUS(status)}"
         return RuntimeError(f"the episode's branch process {how} without a result")

@@ -364,7 +364,8 @@ def _run_episode(
         "angular_momentum_error": None,
         **TorqueUse((), np.zeros(0)).summary(),
         "latency_by_contacts_us": {},
-        # a protocol push's episode is timed from its push on (set then); a plain one from 0
+        # a protocol push's episode is timed from just after its push (set then); a plain one
+        # from 0
         "timed_from_s": None if spec.scenario in BRANCHED_SCENARIOS else 0.0,
         "replica": spec.replica,
         **(spec.perturbation or NOMINAL).columns(),

@@ -7,7 +7,7 @@ python: descr is NULL"). `tests/centroidal/test_kernels.py` checks that no cache
 one of another file. The modules that own the methods call these kernels from Python:
 `centroidal.rotations` (the rotation helpers), `robots.model` (the estimator's kinematics
 input), `wholebody.ik` (the pose errors), `stabilizers.centroidal_feedback` (Murooka's eqs.
-15-16).
+15-16), `centroidal.mpc_formulations` (the linear MPC's face rows).
 """
 
 from __future__ import annotations
@@ -262,7 +262,8 @@ def unit_face_rows(faces: np.ndarray, sample: np.ndarray, points: np.ndarray) ->
     cone with moments about the origin, becomes [a_f + a_n x c-hat_k, a_n] / norm for the
     moment about c-hat_k = points[sample[i]] (points (N, 3) [m]): a . (c x f) = f . (a x c).
     The same arithmetic, in the same order, as the numpy expressions it replaced (the rows
-    are equal to the bit: `tests/centroidal/test_kernel_equivalence.py`)."""
+    are equal to the bit: `tests/centroidal/test_kernel_equivalence.py`; that order is the
+    pinned numpy's on x86-64, where its einsum sums without fused multiply-adds)."""
     m = faces.shape[0]
     rows = np.empty((m, 6))
     for i in range(m):

@@ -360,7 +360,9 @@ class FaceForm:
     `face:quadprog` calls quadprog (Goldfarb-Idnani dual active set) directly with the inverse
     Cholesky factor of the constant Hessian, computed once (`factorized=True`), on a working
     set of the faces (`_quadprog`: the same optimum; the preview stage 1.5x faster on `walk`,
-    430 against 282 us a period, measured side by side); `face:daqp`
+    430 against 282 us a period, measured side by side; the rows made by compiled kernels
+    since, `unit_face_rows` and `face_rows_hold`: 1.6x faster again, docs/latency.md);
+    `face:daqp`
     goes through qpsolvers and factorises every period. The constraint rows are scaled to unit
     norm (the same cone). quadprog has no iteration or time limit of its own: in a sweep, the
     episode's wall-clock budget bounds it (`bench.executors`); DAQP has both, at 4.4x the
@@ -521,7 +523,10 @@ class FaceForm:
         # (each row <= 0 scaled by a positive number), but a well-scaled active set; with rows
         # of norms 0.98-2.7 quadprog's dual active set cycled for ever at friction 0.01
         # (tests/planners/test_linear_mpc.py)
-        rows = unit_face_rows(stacked, sample, np.asarray(problem.points, dtype=float))
+        points = np.asarray(problem.points, dtype=float)
+        if points.shape != (n, 3):  # the kernel reads points[sample] unchecked
+            raise ValueError(f"{self.name}: points must be ({n}, 3), got {points.shape}")
+        rows = unit_face_rows(stacked, sample, points)
         gradient = input_gradient(self.model, problem)
         if not len(rows):  # every sample's cone is the whole space (grasps): unconstrained
             return np.linalg.solve(self.hessian, -gradient).reshape(n, 6)

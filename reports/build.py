@@ -358,8 +358,9 @@ def _headline_sections(
             (
                 "4. What each controller costs per control period",
                 "From the controller's walks (the nominal walk, and the walking pushes timed "
-                "from 10 ms after their push on, whether they fell after it or not: the same "
-                "code every period, without the periods right after a branch's fork; the "
+                f"from {tables.PUSH_TIMING_DELAY_PERIODS} periods after their push on, whether "
+                "they fell after it or not: the same code every period, without the periods "
+                "right after a branch's fork; the "
                 "copies of one run that fell before its push count once): the "
                 "control time per 2 ms period (estimator, planner, stabilizer, whole-body "
                 "layer) [µs], the median over the runs of each one's median, with its "

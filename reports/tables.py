@@ -58,6 +58,9 @@ TIMED_WALKS = ("walk", "walk_push")
 BRANCHED_SCENARIOS = ("stand_push", "walk_push")
 """bench.branching.BRANCHED_SCENARIOS (reports/ imports nothing of bench/; a test checks that
 the two agree): the pushed episodes a sweep runs as one group, forked at the push."""
+PUSH_TIMING_DELAY_PERIODS = 5
+"""bench.branching.PUSH_TIMING_DELAY_PERIODS (the same test checks it): a pushed episode is
+timed from this many control periods after the one its push is applied in."""
 SHARED_RUN_KEYS = (
     "controller",
     "sim",

@@ -239,3 +239,19 @@ def test_children_run_with_the_parents_objects_frozen():
         assert gc.get_freeze_count() == 0
     else:  # in a child: report and exit at once (never back into pytest)
         brancher.finish_child(gc.get_freeze_count() > 0)
+
+
+def test_the_parent_unfreezes_however_it_leaves(monkeypatch):
+    """An exception in the parent between the freeze and the children's end (here a Ctrl-C
+    at the fork, which creates no child) leaves nothing frozen behind it."""
+    gc.unfreeze()
+    brancher = Brancher(1, [60.0], None)
+    brancher.prepare([[SimpleNamespace(time=1.0)]])
+
+    def interrupted() -> int:
+        raise KeyboardInterrupt
+
+    monkeypatch.setattr(os, "fork", interrupted)
+    with pytest.raises(KeyboardInterrupt):
+        brancher.split(0.0)
+    assert gc.get_freeze_count() == 0

@@ -5,10 +5,12 @@ import copy
 import json
 import subprocess
 import sys
+from dataclasses import replace
 
 import numpy as np
 import pytest
 
+from bench.branching import PUSH_TIMING_DELAY_PERIODS
 from bench.results import read_trace, write_trace
 from bench.runner import EpisodeSpec, run_episode, summary_json_ready
 from stabilizers import base as stabilizer_registry
@@ -371,3 +373,27 @@ def test_a_planner_without_murookas_stages_has_no_table_iv_rows():
     assert latency["planner"]["median"] > 0
     assert "reference" not in latency
     assert "centroidal_total" not in latency
+
+
+def test_a_push_episode_is_timed_from_periods_after_its_push_and_untimed_if_it_ends_first():
+    """A protocol push is timed from `PUSH_TIMING_DELAY_PERIODS` periods after the period its
+    push is applied in (branched or alone: `bench.branching`); an episode that ends within
+    them has no timings at all (not those of the periods before its push)."""
+    dt = 0.002
+    spec = EpisodeSpec(
+        "hold",
+        "posture",
+        "mujoco",
+        "stand_push",
+        push_time=0.1,
+        push_impulse=10.0,
+        push_direction_deg=0.0,
+        duration=0.1 + (PUSH_TIMING_DELAY_PERIODS + 20) * dt,
+    )
+    timed = run_episode(spec).summary
+    assert timed["timed_from_s"] == pytest.approx(0.1 + PUSH_TIMING_DELAY_PERIODS * dt)
+    assert timed["latency_us"]["control_total"]["median"] > 0
+    short = run_episode(replace(spec, duration=0.1 + 2 * dt)).summary
+    assert short["status"] == "ok"
+    assert short["timed_from_s"] > short["duration"]
+    assert short["latency_us"] == {}

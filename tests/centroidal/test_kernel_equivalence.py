@@ -287,3 +287,8 @@ def test_mpc_face_rows_are_the_numpy_expression_to_the_bit(model):
     expected = np.einsum("ij,ij->i", -rows, inputs[sample]) >= -slack
     assert 0 < expected.sum() < len(rows)  # some rows hold, some do not
     assert np.array_equal(face_rows_hold(kernel, sample, inputs, slack), expected)
+    # at the threshold itself, where only the same sum in the same order decides: every row
+    # holds with its own value as the slack, none with the next float below it
+    value = np.einsum("ij,ij->i", rows, inputs[sample])
+    assert face_rows_hold(kernel, sample, inputs, value).all()
+    assert not face_rows_hold(kernel, sample, inputs, np.nextafter(value, -np.inf)).any()

@@ -165,6 +165,15 @@ def test_face_quadprog_working_set_gives_the_all_rows_answer(walking_problem, sh
         assert face.working_rows >= 1
 
 
+def test_face_form_refuses_points_of_the_wrong_shape(walking_problem):
+    """One linearisation point per sample: anything else is a clear error (the compiled rows
+    would read past the array)."""
+    mpc, problem = walking_problem
+    short = replace(problem, points=np.asarray(problem.points)[:-1])
+    with pytest.raises(ValueError, match=r"points must be \(6, 3\)"):
+        make_formulation("face:quadprog", mpc, 32).solve(short)
+
+
 def test_face_form_refuses_ridge_bounds(model, walking_problem):
     mpc, problem = walking_problem
     bounded = replace(problem, upper=[np.full(n, 100.0) for n in problem.sizes])

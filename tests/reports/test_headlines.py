@@ -205,7 +205,8 @@ def test_cost_is_the_median_over_the_walks_with_its_interval():
     """The cost of a controller is the median over its walks, pushed or not (21 in the main
     job: the same code every period), with the order statistics' 95 % interval: for 21
     episodes the 6th and the 16th of the sorted episode medians; n counts them. A walking
-    push counts when it timed its own periods (a branch, from the push on: `timed_from_s`)."""
+    push counts when it timed its own periods (a branch, from just after the push on:
+    `timed_from_s`)."""
     rows = [_walk("a+x", "mujoco", 300.0, 40.0)]
     for index in range(20):
         row = _walk("a+x", "mujoco", 310.0 + 10.0 * index, 40.0)

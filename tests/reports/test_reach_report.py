@@ -173,9 +173,10 @@ def test_solve_time_plot_without_its_columns(tmp_path):
 def test_the_reports_copies_of_the_scenarios_constants_agree():
     assert tables.REACH_PASS_HAND_ERROR_M == scenarios.REACH_PASS_HAND_ERROR_M
     assert tuple(push[0] for push in scenarios.REACH_PUSHES) == tables.REACH_PUSH_TIMES_S
-    from bench.branching import BRANCHED_SCENARIOS
+    from bench.branching import BRANCHED_SCENARIOS, PUSH_TIMING_DELAY_PERIODS
 
     assert tables.BRANCHED_SCENARIOS == BRANCHED_SCENARIOS
+    assert tables.PUSH_TIMING_DELAY_PERIODS == PUSH_TIMING_DELAY_PERIODS
 
 
 def test_solve_time_stats_of_a_trace():
