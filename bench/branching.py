@@ -117,15 +117,15 @@ class Brancher:
         self.split_done = True
         begin = time.perf_counter()
         parent = os.getpid()
-        # the objects so far out of the collector's reach in the children, whose collections
-        # would otherwise write to (and so copy) every page holding a tracked object
-        # (`PUSH_TIMING_DELAY_PERIODS`); the parent unfreezes them however it leaves (a child
-        # returns from inside the loop, and stays frozen)
+        # before each fork, the objects so far (the earlier branches' results too) out of the
+        # collector's reach in the child, whose collections would otherwise write to (and so
+        # copy) every page holding a tracked object (`PUSH_TIMING_DELAY_PERIODS`); the parent
+        # unfreezes them however it leaves (a child returns from inside the loop, frozen)
         was_frozen = gc.get_freeze_count() > 0
-        gc.freeze()
         try:
             for index in range(len(self.pending)):
                 started = time.perf_counter()
+                gc.freeze()
                 try:
                     read_fd, write_fd = os.pipe()
                     try:
