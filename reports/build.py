@@ -366,11 +366,15 @@ def _headline_sections(
                 "layer) [µs], the median over the runs of each one's median, with its "
                 "distribution-free 95 % interval (from the order statistics; none under 6 "
                 "runs) and n, the runs; the median p99; the simulator engine's own step for "
-                "the same periods in the same runs, and the stages' medians. The walking "
-                "pushes of a cell ran one after the other in one worker: the interval shows "
-                "how the timing varied from run to run over those minutes, not over the whole "
-                "sweep or on another machine. A controller without a walk from its other "
-                "episodes (`from` names the scenarios).",
+                "the same periods in the same runs; control / engine: each run's control "
+                "median over its engine median, the median over the runs and its 95 % "
+                "interval (the cost in engine steps, measured side by side: a machine slower "
+                "or faster for a whole run leaves it unchanged, so compare controllers and "
+                "runs by it); and the stages' medians. The walking pushes of a cell ran one "
+                "after the other in one worker: the intervals show how the timing varied from "
+                "run to run over those minutes, not over the whole sweep or on another "
+                "machine. A controller without a walk from its other episodes (`from` names "
+                "the scenarios).",
                 cost,
             )
         )

@@ -120,9 +120,11 @@ def cost_table(episodes: pd.DataFrame) -> pd.DataFrame:
     (estimator, planner, stabilizer, whole-body layer) [µs], the median over the runs of each
     run's median, with its distribution-free 95 % interval (`statistics.median_interval`,
     empty under 6 runs) and the runs' count `n`; the median of their p99; the simulator
-    engine's own step for the same periods (`sim_engine`, median [µs]) and the ratio of the
-    two medians (the control's cost in engine steps, measured side by side in the same
-    runs); and each stage's median [µs]. In the main job 20 of the 21 runs are the branches
+    engine's own step for the same periods (`sim_engine`, the median over the runs [µs]); the
+    control's cost in engine steps: each run's control median over its engine median (the two
+    measured side by side, in the same periods, so that a machine slower or faster for the
+    whole run leaves it unchanged), the median over the runs with its 95 % interval; and each
+    stage's median [µs]. In the main job 20 of the 21 runs are the branches
     of one group, run one after the other in one worker: the interval says how the timing
     varies from run to run over those minutes, not over the whole sweep or on another
     machine. A controller without a walk (Sherikov et al.'s hierarchy, in the main job) is
@@ -147,6 +149,7 @@ def cost_table(episodes: pd.DataFrame) -> pd.DataFrame:
         "whole-body µs": "lat_whole_body_median_us",
     }
     rows = rows.reindex(columns=[*KEYS, "from", *columns.values()])
+    rows["ratio"] = rows["lat_control_total_median_us"] / rows["lat_sim_engine_median_us"]
     groups = rows.groupby(KEYS, sort=True)
     table = groups[list(columns.values())].median()
     table.columns = list(columns)
@@ -154,7 +157,13 @@ def cost_table(episodes: pd.DataFrame) -> pd.DataFrame:
     intervals = control.agg(median_interval)
     table.insert(1, "95 % interval", [interval_cell(*interval) for interval in intervals])
     table.insert(2, "n", control.count())
-    table.insert(5, "control / engine", table["control median µs"] / table["engine median µs"])
+    ratio = groups["ratio"]
+    table.insert(5, "control / engine", ratio.median())
+    table.insert(
+        6,
+        "control / engine 95 %",
+        [interval_cell(*interval, digits=2) for interval in ratio.agg(median_interval)],
+    )
     sources = groups["from"].agg(lambda s: ", ".join(sorted(set(s))))
     table.insert(0, "from", sources)
     return table.reset_index()

@@ -109,9 +109,9 @@ def timed_walks(episodes: pd.DataFrame) -> pd.DataFrame:
     return independently_timed(rows[rows["scenario"].isin(TIMED_WALKS)])
 
 
-def interval_cell(low: float, high: float) -> str:
-    """ "low-high" (whole numbers: µs), "–" when there is no interval."""
-    return "–" if math.isnan(low) else f"{low:.0f}-{high:.0f}"
+def interval_cell(low: float, high: float, digits: int = 0) -> str:
+    """ "low-high" with `digits` decimals (none: µs), "–" when there is no interval."""
+    return "–" if math.isnan(low) else f"{low:.{digits}f}-{high:.{digits}f}"
 
 
 def pushes(episodes: pd.DataFrame, phase: str) -> pd.DataFrame:

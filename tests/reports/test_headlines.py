@@ -230,6 +230,30 @@ def test_cost_is_the_median_over_the_walks_with_its_interval():
     assert (alone["95 % interval"], alone["n"]) == ("–", 1)
 
 
+def test_cost_in_engine_steps_is_each_runs_ratio_so_a_slower_machine_leaves_it():
+    """control / engine is the median over the runs of each run's control median over its
+    engine median, with its interval: 21 walks on a machine whose speed drifts by up to 2x
+    from run to run (control and engine slower together) have a wide interval in µs and the
+    same 7.5 engine steps in every run."""
+    rows = []
+    for index in range(21):
+        slower = 1.0 + index / 20.0  # 1x to 2x
+        row = _walk("a+x", "mujoco", 300.0 * slower, 40.0 * slower)
+        if index:
+            row.update(
+                scenario="walk_push",
+                push_phase="walking",
+                push_time_s=3.1,
+                timed_from_s=3.11,
+                episode_id=f"p{index}",
+            )
+        rows.append(row)
+    row = headlines.cost_table(pd.DataFrame(rows)).set_index(["controller", "sim"]).iloc[0]
+    assert row["95 % interval"] == "375-525"  # 300 x 1.25 and 300 x 1.75: the 6th and 16th
+    assert row["control / engine"] == pytest.approx(7.5)
+    assert row["control / engine 95 %"] == "7.50-7.50"
+
+
 def test_copies_of_one_run_count_once_in_the_cost():
     """A walking-push group that fell before its push is one run copied into 20 rows
     (`timed_from_s` None): one timing, not 20 (20 equal medians made a 0-wide interval)."""
