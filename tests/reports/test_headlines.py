@@ -201,6 +201,19 @@ def test_a_controller_without_a_walk_is_costed_from_its_other_episodes():
     assert table.loc[("a+x", "mujoco"), "from"] == "walk"
 
 
+def _walking_push(controller, sim, control, engine, index, timed_from_s) -> dict:
+    """A walking-push row of `_walk`'s kind (push `index`; `timed_from_s` the runner's)."""
+    row = _walk(controller, sim, control, engine)
+    row.update(
+        scenario="walk_push",
+        push_phase="walking",
+        push_time_s=3.1,
+        timed_from_s=timed_from_s,
+        episode_id=f"p{index}",
+    )
+    return row
+
+
 def test_cost_is_the_median_over_the_walks_with_its_interval():
     """The cost of a controller is the median over its walks, pushed or not (21 in the main
     job: the same code every period), with the order statistics' 95 % interval: for 21
@@ -209,15 +222,7 @@ def test_cost_is_the_median_over_the_walks_with_its_interval():
     `timed_from_s`)."""
     rows = [_walk("a+x", "mujoco", 300.0, 40.0)]
     for index in range(20):
-        row = _walk("a+x", "mujoco", 310.0 + 10.0 * index, 40.0)
-        row.update(
-            scenario="walk_push",
-            push_phase="walking",
-            push_time_s=3.1,
-            timed_from_s=3.1,
-            episode_id=f"p{index}",
-        )
-        rows.append(row)
+        rows.append(_walking_push("a+x", "mujoco", 310.0 + 10.0 * index, 40.0, index, 3.11))
     table = headlines.cost_table(pd.DataFrame(rows)).set_index(["controller", "sim"])
     row = table.loc[("a+x", "mujoco")]
     # the sorted medians: 300, 310, ..., 500; median 400; 6th = 350, 16th = 450
@@ -235,19 +240,10 @@ def test_cost_in_engine_steps_is_each_runs_ratio_so_a_slower_machine_leaves_it()
     engine median, with its interval: 21 walks on a machine whose speed drifts by up to 2x
     from run to run (control and engine slower together) have a wide interval in µs and the
     same 7.5 engine steps in every run."""
-    rows = []
-    for index in range(21):
-        slower = 1.0 + index / 20.0  # 1x to 2x
-        row = _walk("a+x", "mujoco", 300.0 * slower, 40.0 * slower)
-        if index:
-            row.update(
-                scenario="walk_push",
-                push_phase="walking",
-                push_time_s=3.1,
-                timed_from_s=3.11,
-                episode_id=f"p{index}",
-            )
-        rows.append(row)
+    rows = [_walk("a+x", "mujoco", 300.0, 40.0)]
+    for index in range(1, 21):
+        slower = 1.0 + index / 20.0  # up to 2x
+        rows.append(_walking_push("a+x", "mujoco", 300 * slower, 40 * slower, index, 3.11))
     row = headlines.cost_table(pd.DataFrame(rows)).set_index(["controller", "sim"]).iloc[0]
     assert row["95 % interval"] == "375-525"  # 300 x 1.25 and 300 x 1.75: the 6th and 16th
     assert row["control / engine"] == pytest.approx(7.5)
@@ -259,15 +255,7 @@ def test_copies_of_one_run_count_once_in_the_cost():
     (`timed_from_s` None): one timing, not 20 (20 equal medians made a 0-wide interval)."""
     rows = [_walk("a+x", "mujoco", 300.0, 40.0)]
     for index in range(20):
-        row = _walk("a+x", "mujoco", 500.0, 40.0)
-        row.update(
-            scenario="walk_push",
-            push_phase="walking",
-            push_time_s=3.1,
-            timed_from_s=None,
-            episode_id=f"p{index}",
-        )
-        rows.append(row)
+        rows.append(_walking_push("a+x", "mujoco", 500.0, 40.0, index, None))
     row = headlines.cost_table(pd.DataFrame(rows)).iloc[0]
     assert row["n"] == 2
     assert row["95 % interval"] == "–"
