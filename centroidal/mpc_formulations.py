@@ -362,11 +362,11 @@ class FaceForm:
     set of the faces (`_quadprog`: the same optimum; the preview stage 1.5x faster on `walk`,
     430 against 282 us a period, measured side by side; the rows made by compiled kernels
     since, `unit_face_rows` and `face_rows_hold`: 1.6x faster again, docs/latency.md);
-    `face:daqp`
-    goes through qpsolvers and factorises every period. The constraint rows are scaled to unit
-    norm (the same cone). quadprog has no iteration or time limit of its own: in a sweep, the
-    episode's wall-clock budget bounds it (`bench.executors`); DAQP has both, at 4.4x the
-    solve time on our walks (1.56 against 0.35 ms median with a kept `daqp.Model`).
+    `face:daqp` goes through qpsolvers and factorises every period. The constraint rows are
+    scaled to unit norm (the same cone). quadprog has no iteration or time limit of its own:
+    in a sweep, the episode's wall-clock budget bounds it (`bench.executors`); DAQP has both,
+    at 4.4x the solve time on our walks (1.56 against 0.35 ms median with a kept
+    `daqp.Model`).
     """
 
     needs_maps = False  # the faces replace the ridges' W_k
@@ -406,15 +406,17 @@ class FaceForm:
             )
         return kept[1], kept[2]
 
-    def _negated_constraint(self, sizes: list[int], rows: np.ndarray) -> np.ndarray:
+    def _negated_constraint(
+        self, sizes: list[int], rows: np.ndarray, sample: np.ndarray
+    ) -> np.ndarray:
         """The block-diagonal constraint matrix, negated, in a buffer kept while the samples'
         face counts stay the same (a fresh 0.6 MB array every period costs more than the
         solve: page faults); `rows` (m, 6) is negated in place and written at flat positions
-        kept with the buffer. Only a solver given every row uses it (`face:daqp`); quadprog's
-        working set is built from its own rows (`_working_constraint`)."""
+        kept with the buffer; `sample` (m,) each row's sample (`_stacked`). Only a solver given
+        every row uses it (`face:daqp`); quadprog's working set is built from its own rows
+        (`_working_constraint`)."""
         if self._layout is None or self._layout[0] != sizes:
             n = self.model.horizon
-            sample = np.repeat(np.arange(n), sizes)
             columns = 6 * sample[:, None] + np.arange(6)
             flat = np.arange(len(rows))[:, None] * (6 * n) + columns  # row-major positions
             self._layout = (sizes, flat.ravel(), np.zeros((len(rows), 6 * n)))
@@ -534,7 +536,7 @@ class FaceForm:
         if self.solver == "quadprog":  # min 1/2 U'HU - a'U  s.t.  C'U >= -slack
             solution = self._quadprog(rows, sample, gradient, sizes)
         else:
-            negated = self._negated_constraint(sizes, rows)  # -(F T^-1), block-diagonal (m, 6N)
+            negated = self._negated_constraint(sizes, rows, sample)  # -(F T^-1), (m, 6N)
             with np.errstate(all="ignore"):
                 solution = qpsolvers.solve_qp(
                     self.hessian, gradient, G=-negated, h=np.zeros(len(rows)), solver=self.solver
