@@ -10,11 +10,21 @@ STAMP := $(VENV)/.installed
 
 all: test
 
+# The installer: uv (pinned; the same pins as pip, about 30 s instead of 65 s from a warm cache,
+# bytecode compiled as pip does), bootstrapped with pip; pip itself if uv cannot be installed or
+# fails (for example where only pip's configured indexes are reachable).
+UV_VERSION := 0.13.9
+PIP_VERSION := 26.3
+
 $(STAMP): pyproject.toml constraints.txt
 	@$(PYTHON) -c 'import sys; sys.exit(0 if sys.version_info >= (3, 11) else "centrobench needs Python >= 3.11; set PYTHON=/path/to/python3.11")'
 	$(PYTHON) -m venv $(VENV)
-	$(BIN)/python -m pip install --quiet --upgrade "pip==26.3"
-	$(BIN)/python -m pip install --quiet -c constraints.txt -e '.[dev]'
+	$(BIN)/python -m pip install --quiet "uv==$(UV_VERSION)" \
+		&& $(BIN)/uv pip install --quiet --python $(BIN)/python --compile-bytecode \
+			-c constraints.txt -e '.[dev]' \
+		|| { echo "uv did not install the pins; installing them with pip"; \
+			$(BIN)/python -m pip install --quiet --upgrade "pip==$(PIP_VERSION)" \
+			&& $(BIN)/python -m pip install --quiet -c constraints.txt -e '.[dev]'; }
 	@touch $@
 
 ## bench: the main job (bench/specs/main.toml; README "The main job"): every registered
