@@ -101,7 +101,12 @@ class Executor(Protocol):
         fn: Callable[[Any], Any],
         items: Iterable[Any],
         budget: Callable[[Any], float] | None = None,
-    ) -> Iterator[tuple[Any, Any]]: ...
+    ) -> Iterator[tuple[Any, Any]]:
+        """(item, fn(item) or the exception in its place) for every item, as they end.
+        `budget(item)`: its wall-clock budget [s]. `items` given as a `collections.deque` is
+        read as work is handed out: items the caller appends to it while it consumes results
+        are run too (a search whose next walk depends on the last, `bench.speed_protocol`)."""
+        ...
 
     def close(self) -> None: ...
 
@@ -358,9 +363,15 @@ class LocalExecutor:
         self._fn = fn
         self._started = self._start_failures = 0
         self._folder = Path(tempfile.mkdtemp(prefix="centrobench-workers-"))
-        pending = deque(_Task(item, math.inf if budget is None else budget(item)) for item in items)
+        # a caller's deque is read as work is handed out (it may append while consuming)
+        pending = items if isinstance(items, deque) else deque(items)
         retry: deque[_Task] = deque()  # items whose worker died once: run again first
         next_id = 0
+
+        def take() -> _Task:
+            item = pending.popleft()
+            return _Task(item, math.inf if budget is None else budget(item))
+
         try:
             while pending or retry or any(w.task is not None for w in self._pool):
                 # a worker for every slot; work for every ready, idle worker
@@ -371,7 +382,7 @@ class LocalExecutor:
                         self._pool.append(self._new_worker())
                     worker = self._pool[index]
                     if worker.ready and worker.task is None:
-                        task = retry.popleft() if retry else pending.popleft()
+                        task = retry.popleft() if retry else take()
                         if not worker.send(task, next_id):  # died idle: a fresh one next turn
                             retry.appendleft(task)
                             worker.ready = False
@@ -542,7 +553,8 @@ class RayExecutor:
     ) -> Iterator[tuple[Any, Any]]:
         ray = self.ray
         remote = ray.remote(num_cpus=1, max_retries=1)(fn)
-        pending = deque(items)
+        # a caller's deque is read as work is handed out (it may append while consuming)
+        pending = items if isinstance(items, deque) else deque(items)
         in_flight: dict[Any, tuple[Any, float, float]] = {}  # ref: item, start, budget
         try:
             while pending or in_flight:

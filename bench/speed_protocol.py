@@ -6,8 +6,10 @@ ladder of speeds (`start`, `start + increment`, ... up to `maximum`) is climbed 
 falls (or ends in an error), then the interval between the highest speed walked and the
 lowest that fell is bisected on a grid of `resolution` (0.01 m/s, the issue's) until it is one
 step wide. Outcomes are taken as monotonic in the speed, as a ladder and a bisection must. The
-pairs are searched side by side: each round runs the next speed of every unfinished pair in
-the local executor's worker processes.
+pairs are searched side by side in the local executor's worker processes, each on its own:
+a pair's next speed is handed out as soon as its last one has been walked (no rounds that
+wait for the slowest walk, and one set of workers for the whole search), so the table does
+not depend on how the walks were scheduled, only the rows' order does.
 
 `steps` = 12 gives the gait-phase controllers (`direct_centroidal`, f_g = 1.98 Hz) 21 steps
 of their own at the commanded speed (the paper's "20 steps"; and the steps of its start at a
@@ -27,6 +29,7 @@ speed_table`).
 from __future__ import annotations
 
 import sys
+from collections import deque
 from collections.abc import Callable, Iterable
 from dataclasses import dataclass
 from typing import Any
@@ -176,50 +179,63 @@ def run_speed_protocol(
     progress: bool = True,
 ) -> pd.DataFrame:
     """Every trial's row (controller, sim, speed_command_mps, replica, status, ...,
-    replicas_required), in the order run."""
+    replicas_required), in the order the walks ended. A pair's next speed (its `replicas`
+    walks) is queued once every walk of its last speed has ended."""
     from bench.executors import make_executor
 
     protocol = protocol or SpeedProtocol()
     searches = {(c, s): SpeedSearch(protocol) for c in controllers for s in sims}
+
+    def walks(controller: str, sim: str) -> list[tuple]:
+        speed = searches[controller, sim].next_speed()
+        if speed is None:
+            return []
+        return [(controller, sim, speed, protocol.steps, r) for r in range(protocol.replicas)]
+
+    queue: deque[tuple] = deque(item for pair in searches for item in walks(*pair))
     rows: list[dict[str, Any]] = []
+    walked: dict[tuple[str, str, float], list[bool]] = {}  # a speed's outcomes so far
+    done = sum(1 for search in searches.values() if search.next_speed() is None)
+    if progress:
+        print(
+            f"speed (Ficht & Behnke Table 1): {len(searches)} searches, {protocol.replicas} "
+            f"walk{'s' if protocol.replicas > 1 else ''} per speed",
+            file=sys.stderr,
+            flush=True,
+        )
     executor = make_executor("local", workers)
     try:
-        for round_number in range(1, 10_000):
-            batch = []
-            for (controller, sim), search in searches.items():
-                speed = search.next_speed()
-                if speed is not None:
-                    batch += [
-                        (controller, sim, speed, protocol.steps, replica)
-                        for replica in range(protocol.replicas)
-                    ]
-            if not batch:
-                break
-            if progress:
-                done = len(searches) - len(batch) // protocol.replicas
-                print(
-                    f"speed (Ficht & Behnke Table 1), round {round_number}: {len(batch)} walks; "
-                    f"{done} of {len(searches)} searches done",
-                    file=sys.stderr,
-                    flush=True,
-                )
-            walked: dict[tuple[str, str, float], int] = {}
-            for item, result in executor.map_unordered(work, batch, budget=lambda _: budget_s):
-                controller, sim, speed, _, replica = item
-                if isinstance(result, BaseException):
-                    result = {
-                        "controller": controller,
-                        "sim": sim,
-                        "speed_command_mps": speed,
-                        "replica": replica,
-                        "status": "error",
-                        "error": f"{type(result).__name__}: {result}",
-                    }
-                rows.append({**result, "replicas_required": protocol.required})
-                key = (controller, sim, speed)
-                walked[key] = walked.get(key, 0) + (result["status"] == "ok")
-            for (controller, sim, speed), count in walked.items():
-                searches[controller, sim].record(speed, count >= protocol.required)
+        for item, result in executor.map_unordered(work, queue, budget=lambda _: budget_s):
+            controller, sim, speed, _, replica = item
+            if isinstance(result, BaseException):
+                result = {
+                    "controller": controller,
+                    "sim": sim,
+                    "speed_command_mps": speed,
+                    "replica": replica,
+                    "status": "error",
+                    "error": f"{type(result).__name__}: {result}",
+                }
+            rows.append({**result, "replicas_required": protocol.required})
+            outcomes = walked.setdefault((controller, sim, speed), [])
+            outcomes.append(result["status"] == "ok")
+            if len(outcomes) < protocol.replicas:
+                continue
+            del walked[controller, sim, speed]
+            search = searches[controller, sim]
+            search.record(speed, sum(outcomes) >= protocol.required)
+            following = walks(controller, sim)
+            queue.extend(following)  # run in this same map: the executor reads the deque
+            if not following:
+                done += 1
+                if progress:
+                    best = "none" if search.best is None else f"{search.best:g} m/s"
+                    print(
+                        f"speed (Ficht & Behnke Table 1): {controller} in {sim}: {best} after "
+                        f"{len(search.tried)} speeds; {done} of {len(searches)} searches done",
+                        file=sys.stderr,
+                        flush=True,
+                    )
     finally:
         executor.close()
     return pd.DataFrame(rows)

@@ -1,7 +1,8 @@
-"""Ficht & Behnke's Table 1 protocol: the ladder-then-bisection search, the rounds run in
-worker processes, the table, and one real walk at a commanded speed."""
+"""Ficht & Behnke's Table 1 protocol: the ladder-then-bisection search, the searches run side
+by side in one set of worker processes, the table, and one real walk at a commanded speed."""
 
 import math
+import os
 
 import pandas as pd
 import pytest
@@ -58,7 +59,51 @@ def fake_walk(item):
         "e_zmp": speed / 5,
         "e_velocity": speed,
         "speed_walked_mps": speed * 0.9,
+        "worker_pid": os.getpid(),
     }
+
+
+def test_each_search_walks_the_speeds_of_a_search_run_alone_in_one_set_of_workers():
+    """Searches side by side, each pair's next speed queued when its last one ends: every
+    pair walks the speeds that the same search run by itself walks, in the same order, and
+    two worker processes walk them all (not a new pair of workers per round of speeds)."""
+    protocol = SpeedProtocol(maximum=0.6)
+    trials = run_speed_protocol(
+        list(THRESHOLDS),
+        ["mujoco", "pybullet"],
+        protocol,
+        workers=2,
+        work=fake_walk,
+        progress=False,
+    )
+    for (controller, _), group in trials.groupby(["controller", "sim"]):
+        alone = [speed for speed, _ in _search(THRESHOLDS[controller], protocol).tried]
+        assert group["speed_command_mps"].tolist() == pytest.approx(alone)
+    assert trials["worker_pid"].nunique() <= 2
+
+
+def chain_link(n: int) -> int:
+    """A unit of work whose successor the caller decides from its result (module level)."""
+    return n + 1
+
+
+def test_the_local_executor_runs_items_appended_to_its_deque_while_results_are_consumed():
+    """Two chains of 5 links each, the next link appended when the last one's result comes:
+    one map runs them all, every link once, each after its predecessor."""
+    from collections import deque
+
+    from bench.executors import LocalExecutor
+
+    queue = deque([0, 100])
+    seen = []
+    for item, result in LocalExecutor(workers=2).map_unordered(chain_link, queue):
+        assert result == item + 1
+        seen.append(item)
+        if result % 100 < 5:
+            queue.append(result)
+    assert sorted(seen) == [0, 1, 2, 3, 4, 100, 101, 102, 103, 104]
+    assert [n for n in seen if n < 100] == [0, 1, 2, 3, 4]
+    assert not queue
 
 
 def test_rounds_in_workers_give_the_table_in_the_papers_shape():
