@@ -10,7 +10,7 @@ STAMP := $(VENV)/.installed
 
 all: test
 
-# The installer: uv (pinned; the same pins as pip, about 30 s instead of 65 s from a warm cache,
+# The installer: uv (pinned; the same pins as pip, about 25 s instead of 65 s from a warm cache,
 # bytecode compiled as pip does), bootstrapped with pip; pip itself if uv cannot be installed or
 # fails (for example where only pip's configured indexes are reachable).
 UV_VERSION := 0.13.9

@@ -106,7 +106,7 @@ def test_the_local_executor_runs_items_appended_to_its_deque_while_results_are_c
     assert not queue
 
 
-def test_rounds_in_workers_give_the_table_in_the_papers_shape():
+def test_searches_in_workers_give_the_table_in_the_papers_shape():
     protocol = SpeedProtocol(maximum=0.6)
     trials = run_speed_protocol(
         list(THRESHOLDS), ["mujoco"], protocol, workers=2, work=fake_walk, progress=False
