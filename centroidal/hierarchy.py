@@ -107,6 +107,7 @@ import numpy as np
 import scipy.linalg
 import scipy.sparse
 from qpsolvers import solve_qp
+from scipy.linalg import lapack
 
 SOLVERS = ("daqp", "cascade")
 
@@ -177,7 +178,7 @@ class Level:
     def violation(self, x: np.ndarray) -> np.ndarray:
         """r = a x - clip(a x, lower, upper)."""
         ax = self.a @ x
-        return ax - np.clip(ax, self.lower, self.upper)
+        return ax - np.minimum(np.maximum(ax, self.lower), self.upper)  # np.clip's, faster
 
 
 @dataclass(frozen=True)
@@ -490,25 +491,78 @@ def _solve_single_qp(
 
 
 def _null_step(
-    rows: np.ndarray, targets: np.ndarray, w_p: np.ndarray, basis: np.ndarray
-) -> tuple[np.ndarray, np.ndarray]:
+    rows: np.ndarray,
+    targets: np.ndarray,
+    w_p: np.ndarray,
+    basis: np.ndarray,
+    free: bool = True,
+) -> tuple[np.ndarray, np.ndarray | None]:
     """Least squares rows w = targets over w in w_p + span(basis) with the minimum-norm step
-    (rank-revealing QR); returns the new w_p and an orthonormal basis of what stays free."""
+    (rank-revealing QR); returns the new w_p and an orthonormal basis of what stays free
+    (None when `free` is False: the last level's is not needed). The LAPACK calls are
+    scipy.linalg's (`_qr_pivoted`, `_solve_triangular`), without its wrappers' overhead: the
+    same bits. (So is `rows @ basis` for an identity basis: skipping that product would turn
+    -0.0 into +0.0 and change the pivoted QR's bits, measured.)"""
     if rows.shape[0] == 0 or basis.shape[1] == 0:
-        return w_p, basis
-    q, r, perm = scipy.linalg.qr((rows @ basis).T, pivoting=True)  # (rows basis)^T P = q r
-    pivots = np.abs(np.diag(r))
+        return w_p, basis if free else None
+    q, packed, perm = _qr_pivoted((rows @ basis).T)  # (rows basis)^T P = q r
+    pivots = np.abs(np.diag(packed))
     rank = int(np.sum(pivots > _RANK_TOL * np.linalg.norm(rows, axis=1).max()))
     if rank == 0:
-        return w_p, basis
+        return w_p, basis if free else None
+    r = np.triu(packed[:rank])  # r's first rows (C-ordered, as scipy's np.triu(packed))
     # rows basis = P r^T q^T: the step is q_1 u, with r_1^T u = P^T (targets - rows w_p).
     rhs = (targets - rows @ w_p)[perm]
     if rank == rows.shape[0]:  # r_1^T square, lower triangular
-        u = scipy.linalg.solve_triangular(r[:rank].T, rhs, lower=True)
+        u = _solve_triangular(r[:rank].T, rhs, lower=True)
     else:  # r_1^T tall with full column rank
         q2, r2 = np.linalg.qr(r[:rank].T)
-        u = scipy.linalg.solve_triangular(r2, q2.T @ rhs)
-    return w_p + basis @ (q[:, :rank] @ u), basis @ q[:, rank:]
+        u = _solve_triangular(r2, q2.T @ rhs, lower=False)
+    return w_p + basis @ (q[:, :rank] @ u), basis @ q[:, rank:] if free else None
+
+
+_LWORK: dict[tuple, int] = {}  # LAPACK's optimal workspace per routine and shape
+
+
+def _qr_pivoted(a: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """scipy.linalg.qr(a, pivoting=True) by the same LAPACK calls with the same workspace (so
+    the same bits: a test holds this): (q (m, m), LAPACK's packed (m, n) whose upper triangle
+    is r (np.triu of it is scipy's r), the permutation)."""
+    a = np.asarray_chkfinite(a)
+    m, n = a.shape
+    key = ("geqp3", m, n)
+    if key not in _LWORK:
+        _LWORK[key] = int(lapack.dgeqp3(a, lwork=-1)[-2][0])
+    qr, jpvt, tau, _, info = lapack.dgeqp3(a, lwork=_LWORK[key])
+    if info < 0:
+        raise ValueError(f"illegal value in {-info}th argument of internal geqp3")
+    jpvt -= 1
+    if m < n:
+        reflectors = qr[:, :m]
+    else:
+        reflectors = np.empty((m, m))
+        reflectors[:, :n] = qr
+    key = ("orgqr", m, tau.shape[0])
+    if key not in _LWORK:
+        _LWORK[key] = int(lapack.dorgqr(reflectors, tau, lwork=-1)[-2][0])
+    # (qr's own columns when m < n: not overwritten, the caller keeps r in them)
+    q, _, info = lapack.dorgqr(reflectors, tau, lwork=_LWORK[key], overwrite_a=int(m >= n))
+    if info < 0:
+        raise ValueError(f"illegal value in {-info}th argument of internal orgqr")
+    return q, qr, jpvt
+
+
+def _solve_triangular(a: np.ndarray, b: np.ndarray, lower: bool) -> np.ndarray:
+    """scipy.linalg.solve_triangular(a, b, lower=lower) by its own LAPACK call (trtrs)."""
+    if a.flags.f_contiguous:
+        x, info = lapack.dtrtrs(a, b, lower=lower, trans=0)
+    else:  # as scipy: the transposed system, since trtrs expects Fortran order
+        x, info = lapack.dtrtrs(a.T, b, lower=not lower, trans=1)
+    if info > 0:
+        raise np.linalg.LinAlgError(f"singular matrix: resolution failed at diagonal {info - 1}")
+    if info < 0:
+        raise ValueError(f"illegal value in {-info}-th argument of internal trtrs")
+    return x
 
 
 def _polish(
@@ -539,10 +593,12 @@ def _polish(
             lower.append(near_lower & ~upper[-1])
     for _ in range(_POLISH_ROUNDS):
         w_p, basis = np.zeros(n), np.eye(n)
-        for level, up, low in zip(levels, upper, lower, strict=True):
+        for index, (level, up, low) in enumerate(zip(levels, upper, lower, strict=True)):
             rows = up | low
             targets = np.where(up, level.upper, level.lower)[rows]
-            w_p, basis = _null_step(_whiten(chol, level.a[rows]), targets, w_p, basis)
+            w_p, basis = _null_step(
+                _whiten(chol, level.a[rows]), targets, w_p, basis, index + 1 < len(levels)
+            )
         candidate = _unwhiten(chol, w_p)
         first = (np.inf, -1, -1, False)  # (step, level, row, at the upper bound)
         for i, (level, ax, up, low) in enumerate(zip(levels, ax0, upper, lower, strict=True)):

@@ -39,6 +39,7 @@ side by side).
 
 from __future__ import annotations
 
+import functools
 import math
 import time
 from dataclasses import dataclass
@@ -169,45 +170,54 @@ def _per_row(value, m: int) -> np.ndarray:
 
 
 class _Rows:
-    """Rows of one level: lower <= A x <= upper, appended block by block."""
+    """Rows of one level: lower <= A x <= upper, appended block by block.
 
-    def __init__(self, n: int) -> None:
+    `cache` (the planner's, for one episode): the scaled rows of blocks whose A is fixed by a
+    `key` (`add`), built and scaled once; the same floating-point operations on the same
+    values, so a period's levels are bit-identical with or without it (a test holds this)."""
+
+    def __init__(self, n: int, cache: dict | None = None) -> None:
         self.n = n
+        self.cache = cache
         self.blocks: list[tuple[np.ndarray, np.ndarray, np.ndarray]] = []
         self.names: list[str] = []  # per row, for reports of which rows are violated
 
     def add(
         self,
-        a: np.ndarray,
+        a,
         lower,
         upper,
         weight: float = 1.0,
         name: str = "",
         rowwise: bool = False,
+        key=None,
     ) -> None:
-        a = np.atleast_2d(a)
-        m = a.shape[0]
+        """Append lower <= a x <= upper, scaled (`_scaled_rows`). `key`: a hashable value that
+        determines `a` for the rest of the episode (for example ("air", foot)); `a` may then
+        be a function of no arguments that builds it, called only when the block is not
+        cached yet."""
+        entry = None if key is None or self.cache is None else (key, weight, rowwise)
+        cached = None if entry is None else self.cache.get(entry)
+        if cached is None:
+            cached = _scaled_rows(np.atleast_2d(a() if callable(a) else a), weight, rowwise)
+            if entry is not None:
+                cached[0].flags.writeable = False
+                self.cache[entry] = cached
+        scaled, scale = cached
+        m = scaled.shape[0]
         self.names.extend([name] * m)
-        lower = _per_row(lower, m)
-        upper = _per_row(upper, m)
-        # each block scaled to a largest row norm of one, then weighted: the rows' norms
-        # within a level stay near the weights' ratio (DAQP's accuracy and speed fall with
-        # that ratio: centroidal.hierarchy); a block keeps its rows' relative weights
-        # (`rowwise`: every row to unit norm, for blocks whose rows' norms span decades)
-        if rowwise:
-            norms = np.sqrt(np.einsum("ij,ij->i", a, a))
-            norms[norms == 0.0] = 1.0
-            scale = math.sqrt(weight) / norms
-            self.blocks.append((a * scale[:, None], lower * scale, upper * scale))
-            return
-        largest = math.sqrt(float(np.einsum("ij,ij->i", a, a).max())) if a.size else 0.0
-        scale = math.sqrt(weight) / (largest if largest > 0.0 else 1.0)
-        self.blocks.append((a * scale, lower * scale, upper * scale))
+        self.blocks.append((scaled, _per_row(lower, m) * scale, _per_row(upper, m) * scale))
 
     def equal(
-        self, a: np.ndarray, value, weight: float = 1.0, name: str = "", rowwise: bool = False
+        self,
+        a,
+        value,
+        weight: float = 1.0,
+        name: str = "",
+        rowwise: bool = False,
+        key=None,
     ) -> None:
-        self.add(a, value, value, weight, name, rowwise)
+        self.add(a, value, value, weight, name, rowwise, key)
 
     def level(self, name: str) -> Level:
         if not self.blocks:
@@ -216,6 +226,22 @@ class _Rows:
         lower = np.concatenate([b[1] for b in self.blocks])
         upper = np.concatenate([b[2] for b in self.blocks])
         return Level(a, lower, upper, name)
+
+
+def _scaled_rows(a: np.ndarray, weight: float, rowwise: bool) -> tuple[np.ndarray, object]:
+    """(a times its scale, the scale (a float, or one per row)): each block scaled to a largest
+    row norm of one, then weighted, so that the rows' norms within a level stay near the
+    weights' ratio (DAQP's accuracy and speed fall with that ratio: centroidal.hierarchy); a
+    block keeps its rows' relative weights. `rowwise`: every row to unit norm, for blocks whose
+    rows' norms span decades."""
+    if rowwise:
+        norms = np.sqrt(np.einsum("ij,ij->i", a, a))
+        norms[norms == 0.0] = 1.0
+        scale = math.sqrt(weight) / norms
+        return a * scale[:, None], scale
+    largest = math.sqrt(float(np.einsum("ij,ij->i", a, a).max())) if a.size else 0.0
+    scale = math.sqrt(weight) / (largest if largest > 0.0 else 1.0)
+    return a * scale, scale
 
 
 class CapturabilityHierarchyPlanner:
@@ -300,6 +326,7 @@ class CapturabilityHierarchyPlanner:
         self.last_solution = None  # (rows' signature, HierarchySolution) of the last period
         self.held = 0  # periods in a row that held the last solution
         self.last_step: np.ndarray | None = None
+        self._row_cache: dict | None = {}  # `_Rows`: the rows fixed for the episode, scaled
 
     # ------------------------------------------------------------------ one period
     def plan(self, t: float, state: RobotState) -> CentroidalPlan:
@@ -397,8 +424,8 @@ class CapturabilityHierarchyPlanner:
     # ------------------------------------------------------------------ the hierarchy
     def _levels(self, t, q, v, terms: WholeBodyTerms, phase):
         lay, n = self.layout, self.layout.size
-        first, second, third = _Rows(n), _Rows(n), _Rows(n)
-        nv = lay.nv
+        cache = self._row_cache
+        first, second, third = _Rows(n, cache), _Rows(n, cache), _Rows(n, cache)
         stance = [f for f in FEET if f != phase.swing]
         weight = self.weight
         # eq. 2: the base rows of H q'' + h = J_c^T f, scaled by 1 / (m g)
@@ -419,21 +446,17 @@ class CapturabilityHierarchyPlanner:
                     a, -terms.drift[frame] - CONTACT_DAMPING * self._velocities[frame], name="eq8"
                 )
             else:  # in the air: no force
-                a = np.zeros((7, n))
-                a[:4, lay.force(i)] = np.eye(4)
-                a[4:, lay.moment(i)] = np.eye(3)
-                first.equal(a, 0.0, name="air")
+                first.equal(lambda i=i: self._air_rows(i), 0.0, name="air", key=("air", i))
         first.equal(dynamics, -terms.bias[:6] / weight, name="dynamics")
         # eq. 9: joint limits over the horizon T
         horizon = JOINT_LIMIT_HORIZON_S
         joints, rates = q[7:], v[6:]
-        a = np.zeros((nv - 6, n))
-        a[:, 6:nv] = np.eye(nv - 6)
         first.add(
-            a,
+            self._joint_rows,
             2 * (self.lower - joints - horizon * rates) / horizon**2,
             2 * (self.upper - joints - horizon * rates) / horizon**2,
             name="joint_limits",
+            key="joints",
         )
         # eq. 15: the CoM acceleration is the preview's initial one
         a = np.zeros((2, n))
@@ -454,10 +477,12 @@ class CapturabilityHierarchyPlanner:
         third.equal(
             a, TORSO_KP * error - TORSO_KD * omega - terms.drift[base][3:], TORSO_WEIGHT, "torso"
         )
-        a = np.zeros((nv - 6, n))
-        a[:, 6:nv] = np.eye(nv - 6)
         third.equal(
-            a, POSTURE_KP * (self.nominal - joints) - POSTURE_KD * rates, POSTURE_WEIGHT, "posture"
+            self._joint_rows,
+            POSTURE_KP * (self.nominal - joints) - POSTURE_KD * rates,
+            POSTURE_WEIGHT,
+            "posture",
+            key="joints",
         )
         if self.hand_target is not None:
             hand = self.hand_frame
@@ -495,34 +520,67 @@ class CapturabilityHierarchyPlanner:
         the CoP (-mu_y / f_z, mu_x / f_z) inside the sole's half extents."""
         lay, n = self.layout, self.layout.size
         normal = self.pyramid[2]  # f_z per unit lambda
-        a = np.zeros((4, n))
-        a[:, lay.force(foot)] = np.eye(4)
-        rows.add(a, 0.0, np.inf, name="lambda")
+
+        def lambdas() -> np.ndarray:
+            a = np.zeros((4, n))
+            a[:, lay.force(foot)] = np.eye(4)
+            return a
+
+        rows.add(lambdas, 0.0, np.inf, name="lambda", key=("lambda", foot))
+
+        def load() -> np.ndarray:
+            a = np.zeros((1, n))
+            a[0, lay.force(foot)] = normal
+            return a
+
         # ours: every foot in contact carries a minimum load (an unloaded sole drifts away)
-        a = np.zeros((1, n))
-        a[0, lay.force(foot)] = normal
-        rows.add(a, MIN_NORMAL_FORCE, np.inf, name="min_force")
-        half_x, half_y = self.cop_extents
-        moment = lay.moment(foot).start
-        a = np.zeros((6, n))
-        for r, (index, sign, bound) in enumerate(
-            [
-                (2, 1, self.gamma),
-                (2, -1, self.gamma),
-                (1, -1, half_x),
-                (1, 1, half_x),
-                (0, 1, half_y),
-                (0, -1, half_y),
-            ]
-        ):
-            a[r, moment + index] = sign
-            a[r, lay.force(foot)] = -bound * normal
-        rows.add(a, -np.inf, 0.0, name="cop_sole")
+        rows.add(load, MIN_NORMAL_FORCE, np.inf, name="min_force", key=("min_force", foot))
+
+        def sole() -> np.ndarray:
+            half_x, half_y = self.cop_extents
+            moment = lay.moment(foot).start
+            a = np.zeros((6, n))
+            for r, (index, sign, bound) in enumerate(
+                [
+                    (2, 1, self.gamma),
+                    (2, -1, self.gamma),
+                    (1, -1, half_x),
+                    (1, 1, half_x),
+                    (0, 1, half_y),
+                    (0, -1, half_y),
+                ]
+            ):
+                a[r, moment + index] = sign
+                a[r, lay.force(foot)] = -bound * normal
+            return a
+
+        rows.add(sole, -np.inf, 0.0, name="cop_sole", key=("cop_sole", foot))
+
+    def _air_rows(self, foot: int) -> np.ndarray:
+        """A foot in the air: its lambda and moment rows (= 0)."""
+        lay = self.layout
+        a = np.zeros((7, lay.size))
+        a[:4, lay.force(foot)] = np.eye(4)
+        a[4:, lay.moment(foot)] = np.eye(3)
+        return a
+
+    def _joint_rows(self) -> np.ndarray:
+        """The joints' accelerations q''_j (eqs. 9 and 19)."""
+        lay = self.layout
+        a = np.zeros((lay.nv - 6, lay.size))
+        a[:, 6 : lay.nv] = np.eye(lay.nv - 6)
+        return a
+
+    def _step_rows(self, j: int) -> np.ndarray:
+        """The j-th footstep displacement d_j (eq. 12)."""
+        a = np.zeros((2, self.layout.size))
+        a[:, self.layout.step(j)] = np.eye(2)
+        return a
 
     def _preview_rows(self, first, second, third, terms, phase, supports):
         """Eqs. 11, 12, 14, 16, 20, 21, 22 and the velocity objective; returns the footholds
         (index 0: now) as (known part (2,), footstep count) for the plan."""
-        lay, n = self.layout, self.layout.size
+        lay = self.layout
         pre = self.preview
         c0, dc0 = terms.com_position[:2], terms.com_velocity[:2]
         walking = self.schedule.walking and phase.step >= 0
@@ -557,16 +615,21 @@ class CapturabilityHierarchyPlanner:
         w_low = self.standing_width + STEP_WIDTH_EXTRA_M[0] * self.scale
         w_high = self.standing_width + STEP_WIDTH_EXTRA_M[1] * self.scale
         for j in range(1, lay.steps + 1):
-            a = np.zeros((2, n))
-            a[:, lay.step(j)] = np.eye(2)
+            a = functools.partial(self._step_rows, j)
             if j == 1 and self._step_kept(phase):
                 continue  # `_swing_rows` holds it where it was (inside its rectangle)
             if j <= len(feet_next):
                 side = 1.0 if feet_next[j - 1] == FEET[0] else -1.0
                 y_range = sorted((side * w_low, side * w_high))
-                first.add(a, [-length, y_range[0]], [length, y_range[1]], name="footstep_box")
+                first.add(
+                    a,
+                    [-length, y_range[0]],
+                    [length, y_range[1]],
+                    name="footstep_box",
+                    key=("step", j),
+                )
             else:
-                first.equal(a, 0.0, name="no_footstep")
+                first.equal(a, 0.0, name="no_footstep", key=("step", j))
         # per preview sample: its foothold index (the K-th after K landings), the centre of
         # its CoP box (eq. 11) and centring target (eq. 21), and the box about that centre
         footholds = np.minimum(supports[: lay.samples], lay.steps)
@@ -582,7 +645,6 @@ class CapturabilityHierarchyPlanner:
             centres[k] = centre
             lows[k], highs[k] = bounds[0] + centre, bounds[1] + centre
         for axis in range(2):
-            cop = lay.cop(axis)
             # eq. 11 now too: the preview's CoP z_0 = c_0 - c''_0 / omega^2 in the current
             # support (else the point mass could lean on a CoP that only angular momentum of
             # the whole body would realise)
@@ -591,50 +653,91 @@ class CapturabilityHierarchyPlanner:
             now_low, now_high = (box[0] + current, box[1] + current)
             if walking and phase.swing is None:
                 now_low, now_high = self._both_feet_box()
-            a = np.zeros(n)
-            a[lay.cdd.start + axis] = -1.0 / self.omega**2
-            first.add(a, now_low[axis] - c0[axis], now_high[axis] - c0[axis], name="cop_now")
+            first.add(
+                functools.partial(self._cop_now_row, axis),
+                now_low[axis] - c0[axis],
+                now_high[axis] - c0[axis],
+                name="cop_now",
+                key=("cop_now", axis),
+            )
             # eqs. 11 and 21 for the samples, one row each (scaled row by row, as separate
             # blocks would be): z_k - p_j(k), p_j = anchor + sum_{i <= j} d_i
-            a = np.zeros((lay.samples, n))
-            a[:, cop] = np.eye(lay.samples)
-            for i in range(1, lay.steps + 1):
-                a[:, lay.step(i).start + axis] = np.where(footholds >= i, -1.0, 0.0)
-            first.add(a, lows[:, axis], highs[:, axis], name="cop_preview", rowwise=True)
-            third.equal(a, centres[:, axis], COP_WEIGHT, "cop", rowwise=True)
+            a = functools.partial(self._cop_preview_rows, axis, footholds)
+            key = ("cop_preview", axis, footholds.tobytes())
+            first.add(a, lows[:, axis], highs[:, axis], name="cop_preview", rowwise=True, key=key)
+            third.equal(a, centres[:, axis], COP_WEIGHT, "cop", rowwise=True, key=key)
             # eq. 14 at level 2
-            row_known, row_acc, row_cop = self.capture_row
-            a = np.zeros(n)
-            a[lay.cdd.start + axis] = row_acc
-            a[cop] = row_cop
-            second.equal(a, -row_known @ np.array([c0[axis], dc0[axis]]), name="capture")
+            row_known = self.capture_row[0]
+            second.equal(
+                functools.partial(self._capture_row, axis),
+                -row_known @ np.array([c0[axis], dc0[axis]]),
+                name="capture",
+                key=("capture", axis),
+            )
             # eq. 22: CoP velocity
-            a = np.zeros((lay.samples, n))
-            a[:, lay.cdd.start + axis] = pre.d_acc
-            a[:, cop] = pre.d_cop
             third.equal(
-                a,
+                functools.partial(self._cop_velocity_rows, axis),
                 -pre.d_known @ np.array([c0[axis], dc0[axis]]),
                 COP_VELOCITY_WEIGHT,
                 "cop_velocity",
+                key=("cop_velocity", axis),
             )
             # velocity objective (ours, after [3]): the previewed CoM velocity
             if self.velocity_reference is not None:
-                a = np.zeros((lay.samples, n))
-                a[:, lay.cdd.start + axis] = pre.s_acc[:, 1]
-                a[:, cop] = pre.s_cop[:, 1, :]
                 target = self.velocity_reference[axis] if walking else 0.0
                 third.equal(
-                    a,
+                    functools.partial(self._com_velocity_rows, axis),
                     target - pre.s_known[:, 1, :] @ np.array([c0[axis], dc0[axis]]),
                     VELOCITY_WEIGHT,
                     "com_velocity",
                     rowwise=True,
+                    key=("com_velocity", axis),
                 )
         # eq. 16 (and 20): the swing foot
         if phase.swing is not None:
             self._swing_rows(first, third, terms, phase, anchor)
         return anchor
+
+    def _cop_now_row(self, axis: int) -> np.ndarray:
+        """The preview's CoP now, z_0 - c_0 = -c''_0 / omega^2, along `axis` (eq. 11)."""
+        a = np.zeros(self.layout.size)
+        a[self.layout.cdd.start + axis] = -1.0 / self.omega**2
+        return a
+
+    def _cop_preview_rows(self, axis: int, footholds: np.ndarray) -> np.ndarray:
+        """z_k - p_j(k) along `axis` for the samples k (eqs. 11 and 21), p_j = anchor +
+        sum_{i <= j} d_i, `footholds` the j(k)."""
+        lay = self.layout
+        a = np.zeros((lay.samples, lay.size))
+        a[:, lay.cop(axis)] = np.eye(lay.samples)
+        for i in range(1, lay.steps + 1):
+            a[:, lay.step(i).start + axis] = np.where(footholds >= i, -1.0, 0.0)
+        return a
+
+    def _capture_row(self, axis: int) -> np.ndarray:
+        """Eq. 14's capture-point velocity along `axis`, in c''_0 and the CoPs."""
+        _, row_acc, row_cop = self.capture_row
+        a = np.zeros(self.layout.size)
+        a[self.layout.cdd.start + axis] = row_acc
+        a[self.layout.cop(axis)] = row_cop
+        return a
+
+    def _cop_velocity_rows(self, axis: int) -> np.ndarray:
+        """Eq. 22's CoP velocities along `axis`, in c''_0 and the CoPs."""
+        lay, pre = self.layout, self.preview
+        a = np.zeros((lay.samples, lay.size))
+        a[:, lay.cdd.start + axis] = pre.d_acc
+        a[:, lay.cop(axis)] = pre.d_cop
+        return a
+
+    def _com_velocity_rows(self, axis: int) -> np.ndarray:
+        """The previewed CoM velocities along `axis` (the velocity objective), in c''_0 and
+        the CoPs."""
+        lay, pre = self.layout, self.preview
+        a = np.zeros((lay.samples, lay.size))
+        a[:, lay.cdd.start + axis] = pre.s_acc[:, 1]
+        a[:, lay.cop(axis)] = pre.s_cop[:, 1, :]
+        return a
 
     def _step_kept(self, phase) -> bool:
         """The next footstep is held where the last period put it (the last
@@ -664,9 +767,12 @@ class CapturabilityHierarchyPlanner:
         jerk_rows = swing_cubic(phase.remaining_s, floor_s=JERK_TIME_FLOOR_S)
         if self._step_kept(phase):
             # the paper's "straightforward workaround": no footstep change near the ground
-            a = np.zeros((2, n))
-            a[:, lay.step(1)] = np.eye(2)
-            first.equal(a, self.last_step, name="footstep_kept")
+            first.equal(
+                functools.partial(self._step_rows, 1),
+                self.last_step,
+                name="footstep_kept",
+                key=("step", 1),
+            )
         a = np.zeros((2, n))
         a[:, lay.qdd] = linear[:2]
         a[:, lay.step(1)] = -rows.acc_p * np.eye(2)

@@ -462,3 +462,34 @@ def test_bad_solve_arguments_raise_one_line_value_error():
     _one_line_value_error(
         lambda: solve_hierarchy([level], 2, warm_start=np.zeros(2, dtype=np.intc)), "1 rows"
     )
+
+
+@pytest.mark.parametrize("shape", [(82, 28), (54, 2), (52, 97), (30, 30), (1, 5), (7, 1)])
+def test_the_polish_s_lapack_calls_are_scipy_s_bit_for_bit(shape):
+    """The polish calls LAPACK itself (`_qr_pivoted`, `_solve_triangular`) to save
+    scipy.linalg's wrappers: the same routines, with the same workspace and the same flags, so
+    the same bits as scipy.linalg.qr(pivoting=True) and solve_triangular, whether the matrix is
+    wide or tall, C- or Fortran-ordered (a changed bit would change the hierarchy's episodes,
+    which are chaotic)."""
+    import scipy.linalg
+
+    rng = np.random.default_rng(sum(shape))
+    a = rng.normal(size=shape) * rng.uniform(0.01, 100.0, size=(shape[0], 1))
+    a[:, 0] = 0.0  # a rank deficiency, and zeros of both signs
+    a[-1, :] *= -0.0
+    for matrix in (a, np.asfortranarray(a)):
+        q, packed, perm = hierarchy._qr_pivoted(matrix)
+        q_ref, r_ref, perm_ref = scipy.linalg.qr(matrix, pivoting=True)
+        np.testing.assert_array_equal(q, q_ref)
+        np.testing.assert_array_equal(np.triu(packed), r_ref)
+        np.testing.assert_array_equal(np.diag(packed), np.diag(r_ref))
+        np.testing.assert_array_equal(perm, perm_ref)
+    k = min(shape)
+    triangle = np.triu(rng.normal(size=(k, k))) + 3.0 * np.eye(k)
+    rhs = rng.normal(size=k)
+    for matrix in (triangle, triangle.T, np.asfortranarray(triangle), triangle.T.copy()):
+        lower = bool(np.allclose(matrix, np.tril(matrix)))
+        np.testing.assert_array_equal(
+            hierarchy._solve_triangular(matrix, rhs, lower=lower),
+            scipy.linalg.solve_triangular(matrix, rhs, lower=lower),
+        )

@@ -63,3 +63,39 @@ def test_a_hierarchy_no_solver_solves_holds_the_last_answer_a_few_periods(monkey
     monkeypatch.setattr(module, "solve_hierarchy", solve)
     planner.plan(0.02, state)
     assert planner.held == 0
+
+
+def test_rows_built_from_the_cache_are_the_bits_built_afresh(monkeypatch):
+    """The planner keeps the scaled rows whose matrix is fixed by a key (`_Rows.add`, `key`)
+    for the episode. Over a reach's standing start, walk start, swings and a held footstep,
+    every period's three levels equal bit for bit the levels built without the cache (so the
+    cache changes no episode), and the cache is used (it holds the keyed blocks)."""
+    original = CapturabilityHierarchyPlanner._levels
+    compared, names = [], set()
+
+    def checked(self, *args):
+        levels, context = original(self, *args)
+        cache, self._row_cache = self._row_cache, None
+        try:
+            fresh, fresh_context = original(self, *args)
+        finally:
+            self._row_cache = cache
+        np.testing.assert_array_equal(context, fresh_context)
+        for level, afresh in zip(levels, fresh, strict=True):
+            for field in ("a", "lower", "upper"):
+                np.testing.assert_array_equal(getattr(level, field), getattr(afresh, field))
+        names.update(self.row_names[0])
+        compared.append(len(cache))
+        return levels, context
+
+    monkeypatch.setattr(CapturabilityHierarchyPlanner, "_levels", checked)
+    model = cached_model(humanoid(1.0))
+    state = model.standing_state()
+    planner = CapturabilityHierarchyPlanner(0.002)
+    planner.reset(model, reach(model), state)
+    end = planner.schedule.walk_start + 2 * planner.schedule.period_s
+    for t in np.arange(0.0, end, 0.02):
+        planner.plan(float(t), state)
+    assert len(compared) == len(np.arange(0.0, end, 0.02))
+    assert {"air", "footstep_box", "footstep_kept", "swing_xy", "cop_preview"} <= names
+    assert compared[-1] >= 15  # keyed blocks: contacts, joints, steps, preview rows per axis
