@@ -26,6 +26,7 @@ import os
 import shutil
 import socket
 from collections.abc import Iterator
+from concurrent.futures import ThreadPoolExecutor
 from pathlib import Path
 from typing import Any
 
@@ -273,7 +274,8 @@ def read_episode_file(path: Path) -> pa.Table:
     (unreadable Parquet, another schema, not one row, or a row of another episode). A file of
     an older centrobench that lacks later columns is read with those columns null."""
     try:
-        table = pq.read_table(path)
+        with pq.ParquetFile(path) as file:  # half the time of pq.read_table, the same table
+            table = file.read(use_threads=False)
     except (OSError, pa.ArrowException) as exc:
         raise ValueError(f"not a readable Parquet file ({' '.join(str(exc).split())})") from None
     names = set(table.schema.names)
@@ -288,7 +290,8 @@ def read_episode_file(path: Path) -> pa.Table:
         if name not in names:
             table = table.append_column(name, pa.nulls(len(table), ROW_SCHEMA.field(name).type))
     try:
-        table = table.select(ROW_SCHEMA.names).cast(ROW_SCHEMA)
+        if not table.schema.equals(ROW_SCHEMA):  # (an older file's; a cast costs 0.6 ms)
+            table = table.select(ROW_SCHEMA.names).cast(ROW_SCHEMA)
     except (pa.ArrowException, ValueError) as exc:
         raise ValueError(f"columns of the wrong type ({' '.join(str(exc).split())})") from None
     if table.num_rows != 1 or table.column("episode_id")[0].as_py() != path.stem:
@@ -300,13 +303,28 @@ def scan_episodes(root: str | Path) -> tuple[pa.Table | None, list[tuple[Path, s
     """(the valid episode rows under `root` as one table or None, [(file, why it is not
     valid)])."""
     folder = Path(root) / "episodes"
+    paths = sorted(folder.glob("*.parquet")) if folder.exists() else []
     tables, bad = [], []
-    for path in sorted(folder.glob("*.parquet")) if folder.exists() else ():
-        try:
-            tables.append(read_episode_file(path))
-        except ValueError as exc:
-            bad.append((path, str(exc)))
+    # a few threads: Arrow reads without the GIL (1414 files of the main job: 6.4 s one by one
+    # with pq.read_table, about 1.5 s so)
+    with ThreadPoolExecutor(READ_THREADS) as pool:
+        for path, (table, why) in zip(paths, pool.map(_read_or_why, paths), strict=True):
+            if table is None:
+                bad.append((path, why))
+            else:
+                tables.append(table)
     return (pa.concat_tables(tables) if tables else None), bad
+
+
+READ_THREADS = 4  # `scan_episodes`'s reading threads
+
+
+def _read_or_why(path: Path) -> tuple[pa.Table | None, str]:
+    """(`read_episode_file`'s table, "") or (None, why the file is not an episode row)."""
+    try:
+        return read_episode_file(path), ""
+    except ValueError as exc:
+        return None, str(exc)
 
 
 class ResultStore:

@@ -60,3 +60,47 @@ def test_a_push_whose_controller_failed_is_not_survived(stage, survived):
     summary = {"status": "error", "error_stage": stage, "duration": 3.9}
     row = summary_row(labels, summary, None, 5.0, 1.0)
     assert row["survived"] is survived
+
+
+def test_scanning_a_results_folder_keeps_every_row_in_order_and_says_what_it_left_out(tmp_path):
+    """`scan_episodes` reads the files on a few threads and skips the cast of a file already
+    in `ROW_SCHEMA`: the rows come back in file order, each as `pq.read_table` and the cast
+    would give it; a file of an older centrobench lacking a column is read with it null; an
+    unreadable file, a file with a column of another type and a file of another episode are
+    left out with their reason, in file order."""
+    import pyarrow as pa
+    import pyarrow.parquet as pq
+
+    from bench.dataset import ROW_SCHEMA, scan_episodes
+
+    folder = tmp_path / "episodes"
+    folder.mkdir()
+    summary = {"status": "ok", "duration": 1.0}
+
+    def row(episode: str) -> pa.Table:
+        labels = {"episode_id": episode, "controller": "c", "sim": "mujoco"}
+        return pa.Table.from_pylist([summary_row(labels, summary, None, 1.0, 1.0)], ROW_SCHEMA)
+
+    names = [f"{k:02d}" for k in range(12)]
+    for name in names:
+        pq.write_table(row(name), folder / f"{name}.parquet")
+    pq.write_table(row("old").drop_columns(["torque_share_max"]), folder / "old.parquet")
+    wrong = row("typed")
+    index = wrong.schema.get_field_index("fall_time")
+    pq.write_table(
+        wrong.set_column(index, "fall_time", pa.array(["soon"])), folder / "typed.parquet"
+    )
+    pq.write_table(row("someone"), folder / "other.parquet")
+    (folder / "broken.parquet").write_bytes(b"not parquet")
+    table, bad = scan_episodes(tmp_path)
+    assert table.column("episode_id").to_pylist() == [*names, "old"]
+    expected = pa.concat_tables(
+        [pq.read_table(folder / f"{name}.parquet").cast(ROW_SCHEMA) for name in names]
+    )
+    assert table.slice(0, len(names)).equals(expected)
+    assert table.column("torque_share_max")[len(names)].as_py() is None
+    assert [(path.name, why.split(" (")[0]) for path, why in bad] == [
+        ("broken.parquet", "not a readable Parquet file"),
+        ("other.parquet", "1 rows, not the one row of episode other"),
+        ("typed.parquet", "columns of the wrong type"),
+    ]
