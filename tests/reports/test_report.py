@@ -637,3 +637,32 @@ def test_runs_of_a_branched_group_count_once_when_they_share_their_timings():
     assert list(kept.index) == [0, 2, 3, 4]
     rows["timed_from_s"] = [3.1, 3.1, None, 0.0, 0.0]
     assert list(tables.independently_timed(rows).index) == [0, 1, 2, 3, 4]
+
+
+def test_rows_of_an_older_version_are_read_beside_today_s_in_order(results, tmp_path: Path):
+    """`read_results` joins the files as Arrow tables: a file of an older centrobench that
+    lacks a column gives a null there (NaN), the other rows keep their values, and the rows
+    are those of reading each file to pandas, sorted by episode id."""
+    import shutil
+
+    import pyarrow.parquet as pq
+
+    from reports.build import read_results
+
+    root = tmp_path / "copy"
+    shutil.copytree(results[0], root)
+    files = sorted((root / "episodes").glob("*.parquet"))
+    old = pq.read_table(files[0])
+    pq.write_table(old.drop_columns(["com_error_rms_m"]), files[0])
+    episodes, _, notes = read_results(root)
+    assert notes == []
+    expected = pd.concat([pd.read_parquet(f) for f in files], ignore_index=True)
+    expected = expected.sort_values("episode_id", ignore_index=True)
+    assert list(episodes["episode_id"]) == list(expected["episode_id"])
+    first = episodes["episode_id"] == files[0].stem
+    assert episodes.loc[first, "com_error_rms_m"].isna().all()
+    others = ~first
+    np.testing.assert_array_equal(
+        episodes.loc[others, "com_error_rms_m"], expected.loc[others, "com_error_rms_m"]
+    )
+    assert episodes.loc[others, "com_error_rms_m"].notna().any()
