@@ -514,9 +514,9 @@ def _null_step(
     # rows basis = P r^T q^T: the step is q_1 u, with r_1^T u = P^T (targets - rows w_p).
     rhs = (targets - rows @ w_p)[perm]
     if rank == rows.shape[0]:  # r_1^T square, lower triangular
-        u = _solve_triangular(r[:rank].T, rhs, lower=True)
+        u = _solve_triangular(r.T, rhs, lower=True)
     else:  # r_1^T tall with full column rank
-        q2, r2 = np.linalg.qr(r[:rank].T)
+        q2, r2 = np.linalg.qr(r.T)
         u = _solve_triangular(r2, q2.T @ rhs, lower=False)
     return w_p + basis @ (q[:, :rank] @ u), basis @ q[:, rank:] if free else None
 
