@@ -29,10 +29,11 @@ import time
 
 import numpy as np
 
+from centroidal.base_angle import base_angle, base_orientation
 from centroidal.mpc import GRAVITY, MpcModel, MpcProblem, MpcSolverError, MpcWeights
 from centroidal.mpc_formulations import DEFAULT_FORMULATION, make_formulation
 from centroidal.projection import DEFAULT_BACKEND, WrenchProjector, project_resultant
-from centroidal.rotations import exp, from_matrix, log, to_matrix
+from centroidal.rotations import from_matrix
 from centroidal.wrench import cross, zmp_on_plane
 from planners.base import PlannerSpec, register
 from planners.reference import com_reference, height_offset, yaw_reference
@@ -95,7 +96,7 @@ class LinearMpcPlanner:
             [
                 com,
                 np.asarray(state.com_velocity_world, dtype=float),
-                log(to_matrix(state.base_orientation_world)),
+                base_angle(state.base_orientation_world),
                 np.zeros(3),
             ]
         )
@@ -220,7 +221,7 @@ class LinearMpcPlanner:
         positions, orientations, tracked = limb_targets(
             self.scenario, self.limbs, self.start_pose, t
         )
-        orientation = from_matrix(exp(self.x[6:9]))
+        orientation = base_orientation(self.x[6:9])
         return CentroidalPlan(
             com_reference_world=self._reference_at(np.array([t]))[0],
             com_planned_world=self.x[:3].copy(),

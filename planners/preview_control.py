@@ -21,10 +21,11 @@ Each control period (dt = 2 ms here; the preview model is sampled at dtau = 5 ms
 Adaptations (our robot and framework, not the paper's): the contact polygons are the limb's
 rectangle shrunk by a 10 mm margin (the paper uses "contact polygon vertices with inner
 margins", Fig. 3, without a number); the friction coefficient is the scene's; the angle alpha
-is the rotation vector of the base orientation (equal to the paper's Euler angles to first
-order; the paper also neglects K_Euler, Sec. III-A4); the preview's 1 % steady-state offset is
-removed by the tail correction of `centroidal.preview` (tail_correction=False restores the
-paper's plain gains).
+is the rotation vector of the base orientation (`centroidal.base_angle`: equal to the paper's
+ZYX Euler angles to first order; the paper also neglects K_Euler, Sec. III-A4); the
+preview's 1 % steady-state offset is removed by the tail correction of `centroidal.preview`
+(tail_correction=False restores the paper's plain gains); the reference is computed once, at
+reset (`planners.reference.com_reference`).
 """
 
 from __future__ import annotations
@@ -33,9 +34,10 @@ import time
 
 import numpy as np
 
+from centroidal.base_angle import base_angle, base_orientation
 from centroidal.preview import TripleIntegratorPreview, preview_gains
 from centroidal.projection import DEFAULT_BACKEND, WrenchProjector, project_resultant
-from centroidal.rotations import exp, from_matrix, log, to_matrix
+from centroidal.rotations import from_matrix
 from centroidal.wrench import zmp_on_plane
 from planners.base import PlannerSpec, register
 from planners.reference import com_reference, height_offset, yaw_reference
@@ -107,7 +109,7 @@ class PreviewControlPlanner:
         com = np.asarray(state.com_position_world, dtype=float)
         self.preview.state[:3, 0] = com
         self.preview.state[:3, 1] = state.com_velocity_world
-        self.preview.state[3:, 0] = log(to_matrix(state.base_orientation_world))
+        self.preview.state[3:, 0] = base_angle(state.base_orientation_world)
         n_samples = int(np.ceil(scenario.duration / self.dtau)) + self.horizon + 2
         self.reference = com_reference(
             scenario, self.dtau, n_samples, height_offset(scenario, float(com[2]))
@@ -164,7 +166,7 @@ class PreviewControlPlanner:
             com_planned_world=com_planned,
             com_velocity_planned_world=planned[:3, 1],
             com_acceleration_planned_world=planned[:3, 2],
-            base_orientation_planned_world=from_matrix(exp(planned[3:, 0])),
+            base_orientation_planned_world=base_orientation(planned[3:, 0]),
             base_angular_velocity_planned_world=planned[3:, 1],
             wrench_planned_world=wrench_planned,
             wrench_projected_world=wrench_projected,
@@ -182,7 +184,7 @@ class PreviewControlPlanner:
             },
             com_desired_world=desired[:3, 0],
             com_velocity_desired_world=desired[:3, 1],
-            base_orientation_desired_world=from_matrix(exp(desired[3:, 0])),
+            base_orientation_desired_world=base_orientation(desired[3:, 0]),
             base_angular_velocity_desired_world=desired[3:, 1],
             limb_tracked=tracked,
         )

@@ -14,8 +14,9 @@ the reference (a constant offset above the support; `follow_height`) and the bas
 is level.
 
 To give the stabilizers the same kind of plan as `preview_control`, the planned resultant
-wrench [m x''; m z''; 0 moment about the CoM] goes through the same projection (eqs. 9-10);
-its projection error then shows how far the cart-table plan is from the contact constraints.
+wrench [m x''; m z''; 0 moment about the CoM] (`cart_table_wrench`) goes through the same
+projection (eqs. 9-10); its projection error then shows how far the cart-table plan is from
+the contact constraints.
 The steady-state tail correction of `centroidal.preview` is used as for `preview_control`.
 """
 
@@ -160,7 +161,7 @@ class PreviewZmpPlanner:
         com = np.array([x[0, 0], x[1, 0], z_next])
         velocity = np.array([x[0, 1], x[1, 1], z_velocity])
         acceleration = np.array([x[0, 2], x[1, 2], z_acceleration])
-        wrench_planned = np.concatenate([self.mass * acceleration, np.zeros(3)])
+        wrench_planned = cart_table_wrench(self.mass, acceleration)
         after_preview = time.perf_counter_ns()
 
         phase = self.scenario.phase_at(t)
@@ -210,6 +211,18 @@ register(
         "Kajita et al. 2003: ZMP preview control on the cart-table model",
     )
 )
+
+
+def cart_table_wrench(mass: float, acceleration: np.ndarray) -> np.ndarray:
+    """The planned resultant wrench w-bar^p (6,) of a cart-table plan, gravity excluded: the
+    force m c'' [N] and no moment about the CoM [N m].
+
+    Adaptation: Kajita's cart-table plan is a CoM trajectory only, its force through the CoM
+    (the ZMP is where that line meets the floor); this is the wrench that `preview_zmp` gives
+    the stabilizers, in the convention of Murooka et al.'s w-bar^p (eqs. 3, 9-10), so that it
+    goes through the same projection as `preview_control`'s plan and its projection error
+    shows how far the cart-table plan is from the contact constraints."""
+    return np.concatenate([mass * np.asarray(acceleration, dtype=float), np.zeros(3)])
 
 
 def follow_height(

@@ -60,7 +60,12 @@ def com_reference(
     scenario: Scenario, dtau: float, n_samples: int, height_offset: float
 ) -> np.ndarray:
     """CoM reference (n_samples, 3) [m] at times 0, dtau, 2 dtau, ... (the last phase holds
-    beyond the scenario's end)."""
+    beyond the scenario's end).
+
+    Adaptation (Murooka et al. Table IV, "calculate reference", 22 us a period on HRP-5P): the
+    planners call this once, at reset, for the whole scenario, so their "reference" stage is
+    a slice of this array (about 1 us); the reference is the same as computed period by
+    period, since it depends only on the scenario's fixed contact sequence."""
     reference = np.empty((n_samples, 3))
     by_phase: dict[int, tuple[np.ndarray, float]] = {}  # support_centre depends on the phase only
     for i in range(n_samples):

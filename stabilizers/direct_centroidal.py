@@ -108,9 +108,7 @@ class DirectCentroidalStabilizer:
         p_ref = plan.zmp_planned_world[:2]
         x = state.com_position_world[:2]
         v = state.com_velocity_world[:2]
-        p = state.zmp_world[:2]
-        if not math.isfinite(p[0] + p[1]):  # no ZMP measured (no force): no ZMP feedback
-            p = p_ref
+        p = measured_or_reference_zmp(state.zmp_world[:2], p_ref)
         com_target = plan.com_planned_world.copy()
         axes = plan.inertia_axes_reference_world
         if options.closed_loop:
@@ -176,6 +174,17 @@ class DirectCentroidalStabilizer:
         theta_set = self.x_aug_i / scale  # eq. 15
         rotation = tilt_rotation(axis_from_angles(theta_set[0], theta_set[1]))
         return rotation @ axes_ref  # eq. 12
+
+
+def measured_or_reference_zmp(zmp: np.ndarray, zmp_reference: np.ndarray) -> np.ndarray:
+    """p [m] (2,) for eqs. 8 and 14: the estimator's ZMP, or the reference p_ref when it has
+    none (NaN: a force-sensor ZMP with no vertical force, the feet unloaded; eq. 7's estimate
+    of `five_mass_kalman` is always finite). Ours: the paper does not say; with p = p_ref the
+    ZMP term K_zmp (p_ref - p) of eqs. 8 and 14 is dropped for that period and the CoM term
+    still acts."""
+    if math.isfinite(zmp[0] + zmp[1]):
+        return zmp
+    return zmp_reference
 
 
 def flywheel_zmp(

@@ -167,3 +167,21 @@ def test_the_cart_tables_height_follows_a_stepping_reference_smoothly():
     assert max(abs(a) for a in accelerations) < 1e-3
     assert abs(state[0] - (0.86 + step)) < 1e-6
     assert follow_height(np.array([0.86, 0.0]), 0.86, omega, dt) == (0.86, 0.0, 0.0)
+
+
+def test_the_cart_table_wrench_has_the_cart_tables_zmp():
+    """`preview_zmp`'s planned wrench (no moment about the CoM), with gravity and taken about
+    the world origin, has its ZMP where the cart-table model puts it: p = c - (c_z / g) c''
+    (Kajita et al. 2003) on the floor z = 0, for a constant height (c_z'' = 0)."""
+    from centroidal.projection import GRAVITY  # the vector (0, 0, g)
+    from centroidal.wrench import zmp_on_plane
+    from planners.preview_zmp import cart_table_wrench
+
+    mass, com = 58.4, np.array([0.12, -0.04, 0.8])
+    acceleration = np.array([0.7, -0.3, 0.0])
+    wrench = cart_table_wrench(mass, acceleration)
+    assert np.array_equal(wrench[3:], np.zeros(3))
+    force = wrench[:3] + mass * GRAVITY
+    about_origin = np.concatenate([force, np.cross(com, force) + wrench[3:]])
+    expected = com[:2] - com[2] / GRAVITY[2] * acceleration[:2]
+    np.testing.assert_allclose(zmp_on_plane(about_origin)[:2], expected, atol=1e-12)

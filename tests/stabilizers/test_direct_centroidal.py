@@ -39,3 +39,15 @@ def test_the_flywheel_zmp_of_a_simulated_pendulum_plus_flywheel_is_its_zmp():
 def test_without_a_flywheel_acceleration_the_estimate_is_kept():
     cmp = np.array([0.02, -0.01])
     assert np.array_equal(flywheel_zmp(cmp, np.array([0.12, 0.1]), None, 0.8), cmp)
+
+
+def test_without_a_measured_zmp_the_zmp_term_of_eq_8_is_dropped():
+    """A force-sensor ZMP is NaN when the feet carry no vertical force: p = p_ref then, so that
+    K_zmp (p_ref - p) is zero; a measured ZMP is used as it is."""
+    from stabilizers.direct_centroidal import measured_or_reference_zmp
+
+    reference = np.array([0.03, -0.09])
+    dropped = measured_or_reference_zmp(np.array([math.nan, 0.01]), reference)
+    assert np.array_equal(reference - dropped, np.zeros(2))
+    measured = np.array([0.05, -0.08])
+    assert np.array_equal(measured_or_reference_zmp(measured, reference), measured)
