@@ -10,7 +10,9 @@ An adaptation: eqs. 9 and 13 have no eps term; 1e-8 on unit ridges is the author
 (isri-aist/ForceControlCollection `WrenchDistribution`, `regularWeight`, used by their
 CentroidalControlCollection and MultiContactController). That code also bounds every ridge
 force to [3, 1000] N and takes moments about the CoM; here the paper's lambda >= 0 and world
-origin are kept.
+origin are kept. Without eps the optimum is a set whenever w is inside the cone, and the
+answer is the solver's (docs/murooka-walking.md: Lawson-Hanson's vertex answers double the CoM
+error on the handrail stairs).
 
 Backends, chosen by name (`BACKEND_NAMES`): scipy `nnls`; `daqp_native` (daqp's own API on
 the condensed problem, with G^T G + eps I kept while G stays the same object); daqp, quadprog,
