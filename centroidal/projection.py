@@ -37,6 +37,12 @@ import scipy.sparse
 GRAVITY = np.array([0.0, 0.0, 9.81])
 DEFAULT_BACKEND = "daqp_native"  # fastest accurate on the walk's contact sets; see docs/latency.md
 REGULARIZATION = 1e-8
+AUTHORS_RIDGE_BOUNDS = (3.0, 1000.0)
+"""[N] every ridge force's bounds in the authors' code (isri-aist/ForceControlCollection,
+`WrenchDistribution::Configuration::ridgeForceMinMax`, include/ForceColl/WrenchDistribution.h,
+the same in MultiContactController's and BaselineWalkingController's configurations); the paper
+has lambda >= 0 only. An option of `WrenchProjector` (`ridge_bounds`), off by default; measured
+in docs/murooka-walking.md."""
 
 
 class Backend(Protocol):
@@ -241,27 +247,59 @@ BACKEND_NAMES = (
 
 
 class WrenchProjector:
-    """Solves the problem of the module docstring with one backend."""
+    """Solves the problem of the module docstring with one backend.
 
-    def __init__(self, backend: str = DEFAULT_BACKEND, regularization: float = REGULARIZATION):
+    `ridge_bounds` (lower, upper) [N], None by default (the paper's lambda >= 0): every ridge
+    force kept in [lower, upper], as the authors' code does (`AUTHORS_RIDGE_BOUNDS`). It is
+    solved as lambda = lower + mu with 0 <= mu <= upper - lower and G mu fitted to w - G lower,
+    so eps regularises mu instead of lambda: at eps = 1e-8 and lower = 3 N a difference of
+    6e-8 N in each ridge's gradient."""
+
+    def __init__(
+        self,
+        backend: str = DEFAULT_BACKEND,
+        regularization: float = REGULARIZATION,
+        ridge_bounds: tuple[float, float] | None = None,
+    ):
         if backend not in BACKEND_NAMES:
             raise KeyError(
                 f"unknown projection backend {backend!r}; choose one of: {', '.join(BACKEND_NAMES)}"
             )
+        if ridge_bounds is not None and not 0.0 <= ridge_bounds[0] < ridge_bounds[1]:
+            raise ValueError(f"ridge_bounds must be 0 <= lower < upper [N], got {ridge_bounds}")
         self.backend = backend
         self.regularization = regularization
+        self.ridge_bounds = ridge_bounds
         self._solve = _backends()[backend]
 
     def ridge_forces(
         self, G: np.ndarray, w: np.ndarray, upper: np.ndarray | None = None
     ) -> np.ndarray:
-        """lambda (n,) >= 0 [N]; ProjectionError if the backend fails."""
+        """lambda (n,) >= 0 [N] (within `ridge_bounds` if set, and below `upper` [N] if given);
+        ProjectionError if the backend fails."""
         if G.shape[1] == 0:
             return np.zeros(0)
-        solution = self._solve(G, np.asarray(w, dtype=float), self.regularization, upper)
+        w = np.asarray(w, dtype=float)
+        if self.ridge_bounds is not None:
+            return self._bounded_ridge_forces(G, w, upper)
+        solution = self._solve(G, w, self.regularization, upper)
         if solution is None or not math.isfinite(solution.sum()):
             raise ProjectionError(f"wrench projection ({self.backend}) found no solution")
         return np.maximum(solution, 0.0)  # solver tolerance may leave -1e-12
+
+    def _bounded_ridge_forces(
+        self, G: np.ndarray, w: np.ndarray, upper: np.ndarray | None
+    ) -> np.ndarray:
+        lower, ceiling = self.ridge_bounds
+        ceilings = np.full(G.shape[1], ceiling)
+        if upper is not None:
+            ceilings = np.minimum(ceilings, upper)
+        if np.any(ceilings <= lower):
+            raise ValueError(f"an upper ridge bound is at or below the lower one, {lower} N")
+        solution = self._solve(G, w - lower * G.sum(axis=1), self.regularization, ceilings - lower)
+        if solution is None or not math.isfinite(solution.sum()):
+            raise ProjectionError(f"wrench projection ({self.backend}) found no solution")
+        return lower + np.clip(solution, 0.0, ceilings - lower)
 
     def project(
         self, G: np.ndarray, w: np.ndarray, upper: np.ndarray | None = None

@@ -190,3 +190,72 @@ def test_upper_bounds_and_errors():
         WrenchProjector("nnls").project(G, w, upper)
     with pytest.raises(KeyError, match="choose one of: nnls, daqp"):
         WrenchProjector("gurobi")
+
+
+def test_the_authors_ridge_bounds_keep_every_ridge_inside_them():
+    """`ridge_bounds` = the authors' [3, 1000] N: every ridge force within them, and the answer
+    is the bounded least squares' (min ||G l - w||^2 + eps ||l - lower||^2 on the same bounds,
+    solved directly through qpsolvers with bounds lb, ub)."""
+    import qpsolvers
+
+    from centroidal.projection import AUTHORS_RIDGE_BOUNDS
+
+    lower, upper = AUTHORS_RIDGE_BOUNDS
+    contacts = contact_set(
+        ["left", "right"],
+        [ContactSurface.rectangle(0.11, 0.06, 0.6)] * 2,
+        [np.array([0.0, 0.1, 0.0]), np.array([0.05, -0.1, 0.0])],
+        [np.eye(3)] * 2,
+    )
+    G = contacts.matrix
+    n = G.shape[1]
+    rng = np.random.default_rng(3)
+    wanted = [
+        np.array([0.0, 0.0, 580.0, 0.0, 0.0, 0.0]) + rng.normal(0.0, [60, 60, 200, 40, 40, 5])
+        for _ in range(20)
+    ]
+    wanted.append(np.array([0.0, 0.0, 40000.0, 0.0, 0.0, 0.0]))  # over 32 ridges x 1000 N
+    for w in wanted:
+        for name in ("daqp_native", "quadprog"):
+            projector = WrenchProjector(name, ridge_bounds=AUTHORS_RIDGE_BOUNDS)
+            forces = projector.ridge_forces(G, w)
+            assert forces.min() >= lower - 1e-9
+            assert forces.max() <= upper + 1e-9
+            if w[2] > 30000.0:
+                assert forces.min() == pytest.approx(upper)  # every ridge at the ceiling
+            eps = projector.regularization
+            reference = qpsolvers.solve_qp(
+                G.T @ G + eps * np.eye(n),
+                -G.T @ w - eps * lower * np.ones(n),
+                lb=np.full(n, lower),
+                ub=np.full(n, upper),
+                solver="proxqp",
+                eps_abs=1e-12,
+                eps_rel=0.0,
+            )
+            np.testing.assert_allclose(G @ forces, G @ reference, atol=1e-8, err_msg=name)
+
+
+def test_a_floor_on_every_ridge_keeps_the_cop_off_the_soles_edge():
+    """A vertical force through the sole's edge is feasible with lambda >= 0 (the paper's) but
+    not with every ridge at 3 N or more: the bounded projection's CoP stays inside the edge."""
+    from centroidal.projection import AUTHORS_RIDGE_BOUNDS
+
+    sole = ContactSurface.rectangle(0.11, 0.06, friction=0.6)
+    G = generator_matrix(sole, np.zeros(3), np.eye(3))
+    fz = 500.0
+    edge = np.array([0.0, 0.0, fz, 0.0, -0.11 * fz, 0.0])  # CoP x = 0.11, the front edge
+    paper = WrenchProjector().project(G, edge)[0]
+    bounded = WrenchProjector(ridge_bounds=AUTHORS_RIDGE_BOUNDS).project(G, edge)[0]
+    assert np.linalg.norm(paper - edge) < 1e-3
+    cop_x = -bounded[4] / bounded[2]
+    assert cop_x < 0.11 - 1e-3
+
+
+def test_ridge_bounds_are_checked():
+    with pytest.raises(ValueError, match="0 <= lower < upper"):
+        WrenchProjector(ridge_bounds=(5.0, 3.0))
+    G = generator_matrix(ContactSurface.rectangle(0.11, 0.06, 0.6), np.zeros(3), np.eye(3))
+    projector = WrenchProjector(ridge_bounds=(3.0, 1000.0))
+    with pytest.raises(ValueError, match="at or below the lower one"):
+        projector.ridge_forces(G, np.array([0, 0, 600.0, 0, 0, 0]), np.full(G.shape[1], 2.0))
