@@ -2,6 +2,9 @@
 
     min_lambda ||G lambda - w||^2 + eps ||lambda||^2   s.t.  0 <= lambda (<= upper)
 
+(with `WrenchProjector(ridge_bounds=(lower, ceiling))`: lower <= lambda <= ceiling, and eps on
+lambda - lower; the authors' bounds, off by default).
+
 G (6 x n) stacks the contacts' generator matrices (`centroidal.contacts`), w the wanted contact
 wrench (force; moment about the world origin). eps (default 1e-8, relative to the problem
 scale it is negligible: 1e-8 N of force per unit ridge force) makes the problem strictly convex
@@ -253,7 +256,8 @@ class WrenchProjector:
     force kept in [lower, upper], as the authors' code does (`AUTHORS_RIDGE_BOUNDS`). It is
     solved as lambda = lower + mu with 0 <= mu <= upper - lower and G mu fitted to w - G lower,
     so eps regularises mu instead of lambda: at eps = 1e-8 and lower = 3 N a difference of
-    6e-8 N in each ridge's gradient."""
+    6e-8 N in each ridge's gradient. A caller's `upper` at or below `lower` (a contact to be
+    released) is a ValueError then: release a contact by leaving it out of G."""
 
     def __init__(
         self,
@@ -267,6 +271,8 @@ class WrenchProjector:
             )
         if ridge_bounds is not None and not 0.0 <= ridge_bounds[0] < ridge_bounds[1]:
             raise ValueError(f"ridge_bounds must be 0 <= lower < upper [N], got {ridge_bounds}")
+        if ridge_bounds is not None and backend == "nnls":
+            raise ValueError("the nnls backend has no upper bounds; choose a QP backend")
         self.backend = backend
         self.regularization = regularization
         self.ridge_bounds = ridge_bounds

@@ -179,9 +179,10 @@ class DirectCentroidalStabilizer:
 def measured_or_reference_zmp(zmp: np.ndarray, zmp_reference: np.ndarray) -> np.ndarray:
     """p [m] (2,) for eqs. 8 and 14: the estimator's ZMP, or the reference p_ref when it has
     none (NaN: a force-sensor ZMP with no vertical force, the feet unloaded; eq. 7's estimate
-    of `five_mass_kalman` is always finite). Ours: the paper does not say; with p = p_ref the
-    ZMP term K_zmp (p_ref - p) of eqs. 8 and 14 is dropped for that period and the CoM term
-    still acts."""
+    of `five_mass_kalman` is always finite). Ours: the paper does not say. With p = p_ref, eq.
+    8's ZMP term K_zmp (p_ref - p) is zero for that period and its CoM term still acts; in eq.
+    14 the augmented ZMP keeps its flywheel terms (p~ = p_ref + I theta / (m h) less the
+    theta'' term of `flywheel_zmp`)."""
     if math.isfinite(zmp[0] + zmp[1]):
         return zmp
     return zmp_reference

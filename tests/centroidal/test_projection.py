@@ -194,8 +194,9 @@ def test_upper_bounds_and_errors():
 
 def test_the_authors_ridge_bounds_keep_every_ridge_inside_them():
     """`ridge_bounds` = the authors' [3, 1000] N: every ridge force within them, and the answer
-    is the bounded least squares' (min ||G l - w||^2 + eps ||l - lower||^2 on the same bounds,
-    solved directly through qpsolvers with bounds lb, ub)."""
+    is that of the bounded least squares as `WrenchProjector` states it (min ||G l - w||^2 +
+    eps ||l - lower||^2, lower <= l <= ceiling), solved directly by proxqp with bounds lb, ub
+    instead of through the shift."""
     import qpsolvers
 
     from centroidal.projection import AUTHORS_RIDGE_BOUNDS
@@ -252,9 +253,27 @@ def test_a_floor_on_every_ridge_keeps_the_cop_off_the_soles_edge():
     assert cop_x < 0.11 - 1e-3
 
 
+def test_a_callers_upper_bound_below_the_ceiling_binds_with_the_floor():
+    """`upper` [N] per ridge from the caller (here 20 N, under the authors' 1000 N) is kept with
+    the 3 N floor: a 600 N load needs more than 16 ridges x 20 N can give upward, so every
+    ridge ends at 20 N and the vertical force falls short by the rest."""
+    from centroidal.projection import AUTHORS_RIDGE_BOUNDS
+
+    G = generator_matrix(ContactSurface.rectangle(0.11, 0.06, 0.6), np.zeros(3), np.eye(3))
+    upper = np.full(G.shape[1], 20.0)
+    forces = WrenchProjector(ridge_bounds=AUTHORS_RIDGE_BOUNDS).ridge_forces(
+        G, np.array([0, 0, 600.0, 0, 0, 0]), upper
+    )
+    np.testing.assert_allclose(forces, upper, atol=1e-9)
+    assert (G @ forces)[2] == pytest.approx(G[2].sum() * 20.0)
+    assert (G @ forces)[2] < 600.0
+
+
 def test_ridge_bounds_are_checked():
     with pytest.raises(ValueError, match="0 <= lower < upper"):
         WrenchProjector(ridge_bounds=(5.0, 3.0))
+    with pytest.raises(ValueError, match="nnls backend has no upper bounds"):
+        WrenchProjector("nnls", ridge_bounds=(3.0, 1000.0))
     G = generator_matrix(ContactSurface.rectangle(0.11, 0.06, 0.6), np.zeros(3), np.eye(3))
     projector = WrenchProjector(ridge_bounds=(3.0, 1000.0))
     with pytest.raises(ValueError, match="at or below the lower one"):
