@@ -288,10 +288,13 @@ class WrenchProjector:
         w = np.asarray(w, dtype=float)
         if self.ridge_bounds is not None:
             return self._bounded_ridge_forces(G, w, upper)
+        return np.maximum(self._solved(G, w, upper), 0.0)  # solver tolerance may leave -1e-12
+
+    def _solved(self, G: np.ndarray, w: np.ndarray, upper: np.ndarray | None) -> np.ndarray:
         solution = self._solve(G, w, self.regularization, upper)
         if solution is None or not math.isfinite(solution.sum()):
             raise ProjectionError(f"wrench projection ({self.backend}) found no solution")
-        return np.maximum(solution, 0.0)  # solver tolerance may leave -1e-12
+        return solution
 
     def _bounded_ridge_forces(
         self, G: np.ndarray, w: np.ndarray, upper: np.ndarray | None
@@ -302,9 +305,7 @@ class WrenchProjector:
             ceilings = np.minimum(ceilings, upper)
         if np.any(ceilings <= lower):
             raise ValueError(f"an upper ridge bound is at or below the lower one, {lower} N")
-        solution = self._solve(G, w - lower * G.sum(axis=1), self.regularization, ceilings - lower)
-        if solution is None or not math.isfinite(solution.sum()):
-            raise ProjectionError(f"wrench projection ({self.backend}) found no solution")
+        solution = self._solved(G, w - lower * G.sum(axis=1), ceilings - lower)
         return lower + np.clip(solution, 0.0, ceilings - lower)
 
     def project(
