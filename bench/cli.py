@@ -939,10 +939,11 @@ def _print_summary(summary: dict, as_json: bool) -> None:
             )
             + (f": {summary['error']}" if summary["error"] else "")
         )
+        com_error = summary["com_error_rms_m"]
         print(
             f"simulated {summary['duration']:.2f} s, real-time factor "
             f"{summary['real_time_factor'] or 0:.2f}, CoM error RMS "
-            f"{(summary['com_error_rms_m'] or 0) * 1e3:.2f} mm"
+            + ("–" if com_error is None else f"{com_error * 1e3:.2f} mm")
         )
         print(f"{'stage':<16} {'median us':>10} {'p99 us':>10} {'max us':>10}")
         for stage, stats in summary["latency_us"].items():

@@ -117,6 +117,7 @@ ROW_SCHEMA = pa.schema(
         ("final_yaw_error_rad", _FLOAT),
         ("hand_error_final_m", _FLOAT),
         ("hand_task", _BOOL),
+        ("plans_com_trajectory", _BOOL),
         ("angular_momentum_error_base_vs_constant", _FLOAT),
         ("angular_momentum_error_all_vs_constant", _FLOAT),
         ("angular_momentum_error_constant_vs_euler", _FLOAT),
@@ -196,6 +197,7 @@ def summary_row(
         "final_yaw_error_rad",
         "hand_error_final_m",
         "hand_task",
+        "plans_com_trajectory",
         "timed_from_s",
         "torque_share_max",
         "torque_share_joint",
@@ -222,7 +224,7 @@ def summary_row(
     row["requested_duration"] = requested_duration
     row["wall_s"] = wall_s
     if trace is not None and len(trace):
-        row.update(walking_quality(trace))
+        row.update(walking_quality(trace, summary.get("plans_com_trajectory") is not False))
         row.update(feedback_magnitude(trace))
     if labels.get("push_phase") is not None and is_controller_failure(
         row["status"], row.get("error_stage")

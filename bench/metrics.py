@@ -8,7 +8,9 @@ import pandas as pd
 MIN_SPEED = 1e-3  # [m/s] below this the reference does not walk: no walking quality
 
 
-def walking_quality(trace: pd.DataFrame) -> dict[str, float | None]:
+def walking_quality(
+    trace: pd.DataFrame, plans_com_trajectory: bool = True
+) -> dict[str, float | None]:
     """Ficht & Behnke eq. (18): the integral square errors of the horizontal CoM position,
     ZMP and CoM velocity against their references, normalised by the walking time t_w and
     the requested forward velocity v_g,x:
@@ -19,7 +21,10 @@ def walking_quality(trace: pd.DataFrame) -> dict[str, float | None]:
     the CoM (e_v [m/s]). Adaptation: the references are the planner's plan (planned CoM,
     planned ZMP, planned CoM velocity: what the stabilizer is asked to track) and v_g,x is the
     mean forward speed of the plan over the episode (its displacement over the elapsed time);
-    None when the plan does not move forward (standing).
+    None when the plan does not move forward (standing). With `plans_com_trajectory` False (a
+    planner whose plan's CoM is the state it was computed from: `Planner.plans_com_trajectory`)
+    e_c and e_v would compare the state with itself and are None; e_z, the ZMP against the
+    one the planner decided, stays.
     """
     empty = {"walk_speed_mps": None, "e_com": None, "e_zmp": None, "e_velocity": None}
     if len(trace) < 2 or "com_velocity_planned_x" not in trace:
@@ -41,9 +46,11 @@ def walking_quality(trace: pd.DataFrame) -> dict[str, float | None]:
 
     return {
         "walk_speed_mps": float(speed),
-        "e_com": ise("com_planned", "com_actual"),
+        "e_com": ise("com_planned", "com_actual") if plans_com_trajectory else None,
         "e_zmp": ise("zmp_planned", "zmp_actual"),
-        "e_velocity": ise("com_velocity_planned", "com_velocity_actual"),
+        "e_velocity": (
+            ise("com_velocity_planned", "com_velocity_actual") if plans_com_trajectory else None
+        ),
     }
 
 

@@ -361,6 +361,7 @@ def _run_episode(
         "final_yaw_error_rad": None,
         "hand_error_final_m": None,
         "hand_task": None,
+        "plans_com_trajectory": None,
         "angular_momentum_error": None,
         **TorqueUse((), np.zeros(0)).summary(),
         "latency_by_contacts_us": {},
@@ -389,6 +390,7 @@ def _run_episode(
         hand_frame = None if hand_limb is None else robot.limb(hand_limb).contact_frame
         dt = scene.control_dt
         planner = planner_spec(spec.planner).factory(dt)
+        summary["plans_com_trajectory"] = bool(getattr(planner, "plans_com_trajectory", True))
         if hand_limb is not None:  # whether the hand error is that of a driven hand
             summary["hand_task"] = bool(getattr(planner, "tracks_hand_targets", False))
         stabilizer = stabilizer_spec(spec.stabilizer).factory(dt)
@@ -555,7 +557,8 @@ def _run_episode(
     timed = frame.iloc[round((summary["timed_from_s"] or 0.0) / dt) :]
     summary["latency_us"] = _latency(timed)
     summary["latency_by_contacts_us"] = _latency_by_contacts(timed)
-    if len(frame):
+    # a plan whose CoM is the state it was computed from has no CoM tracking error
+    if len(frame) and summary["plans_com_trajectory"] is not False:
         error = (
             frame[["com_actual_x", "com_actual_y", "com_actual_z"]].to_numpy()
             - frame[["com_planned_x", "com_planned_y", "com_planned_z"]].to_numpy()

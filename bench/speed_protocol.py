@@ -145,7 +145,7 @@ def speed_episode(item: tuple) -> dict[str, Any]:
         "fall_time": summary["fall_time"],
         "speed_walked_mps": steady_speed(result.footsteps, ramp),
         "steps_taken": summary["steps_taken"],
-        **walking_quality(result.trace),
+        **walking_quality(result.trace, summary.get("plans_com_trajectory") is not False),
     }
 
 

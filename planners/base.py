@@ -20,6 +20,11 @@ class Planner(Protocol):
     """Whether the planner drives a hand to the scenario's hand targets (Sherikov et al. 2014,
     eq. 17); otherwise the runner records `hand_task` False in a scenario with targets, and a
     reach's hand error says where the hand stayed, not how well it was driven."""
+    plans_com_trajectory: bool
+    """Whether the plan's CoM position and velocity are a trajectory planned ahead of the
+    state; otherwise (Sherikov et al.'s hierarchy: its plan's CoM is the state it was computed
+    from) the CoM tracking error and eq. 18's e_c and e_v would compare the state with itself,
+    and the runner records them as None (`bench.metrics.walking_quality`)."""
 
     def reset(self, robot: RobotModel, scenario: Scenario, state: RobotState) -> None: ...
     def plan(self, t: float, state: RobotState) -> CentroidalPlan: ...

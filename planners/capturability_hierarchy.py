@@ -248,6 +248,7 @@ class CapturabilityHierarchyPlanner:
     name = "capturability_hierarchy"
     projects_wrench = False
     tracks_hand_targets = True
+    plans_com_trajectory = False
 
     def __init__(self, dt: float) -> None:
         self.dt = dt

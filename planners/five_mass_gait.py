@@ -125,6 +125,7 @@ class FiveMassGaitPlanner:
     name = "five_mass_gait"
     projects_wrench = False
     tracks_hand_targets = False
+    plans_com_trajectory = True
 
     def __init__(self, dt: float, options: SteppingOptions | None = None) -> None:
         self.dt = dt

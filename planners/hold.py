@@ -38,6 +38,7 @@ class HoldPlanner:
     name = "hold"
     projects_wrench = False
     tracks_hand_targets = False
+    plans_com_trajectory = True
 
     def __init__(self, dt: float) -> None:
         self.dt = dt

@@ -56,6 +56,7 @@ class LinearMpcPlanner:
     name = "linear_mpc"
     projects_wrench = True
     tracks_hand_targets = False
+    plans_com_trajectory = True
 
     def __init__(
         self,

@@ -68,6 +68,7 @@ class PreviewControlPlanner:
     name = "preview_control"
     projects_wrench = True
     tracks_hand_targets = False
+    plans_com_trajectory = True
 
     def __init__(
         self,

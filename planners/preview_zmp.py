@@ -106,6 +106,7 @@ class PreviewZmpPlanner:
     name = "preview_zmp"
     projects_wrench = True
     tracks_hand_targets = False
+    plans_com_trajectory = True
 
     def __init__(self, dt: float, projection_backend: str = DEFAULT_BACKEND) -> None:
         self.dt = dt

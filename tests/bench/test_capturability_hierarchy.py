@@ -6,6 +6,7 @@ import numpy as np
 import pytest
 
 import planners.capturability_hierarchy as capturability_hierarchy
+from bench.dataset import summary_row
 from robots.gait import GaitCommand
 from robots.robot_registry import make_robot
 from tests.bench.episodes import run_controller
@@ -126,11 +127,21 @@ def test_it_walks_a_gait_command_with_the_velocity_objective(sim):
     """`walk` (10 steps of 0.125 m in 0.9 s): the paper walks without a velocity reference,
     so the CoM velocity objective at level 3 is ours (after its [3]); with it the hierarchy's
     own footsteps (0.8 s each, the paper's timing) end within 15 cm of the command's goal
-    (measured 6.5 cm MuJoCo, 6.7 cm PyBullet; 9.7 / 5.7 cm before eq. 21's weight was 1e5)."""
-    summary = _run(sim, "walk").summary
+    (measured 6.5 cm MuJoCo, 6.7 cm PyBullet; 9.7 / 5.7 cm before eq. 21's weight was 1e5).
+    Its plan's CoM is its state, so its CoM tracking error and eq. 18's e_c and e_v are not
+    recorded (they would be zero by construction), while e_z, the CoP against the one the
+    hierarchy decided, is."""
+    result = _run(sim, "walk")
+    summary = result.summary
     assert summary["status"] == "ok"
     assert summary["steps_taken"] >= 10
     assert summary["final_position_error_m"] < 0.15
+    assert summary["plans_com_trajectory"] is False
+    assert summary["com_error_rms_m"] is None
+    row = summary_row({"controller": "capturability_hierarchy"}, summary, result.trace, None, None)
+    assert row["e_com"] is None
+    assert row["e_velocity"] is None
+    assert row["e_zmp"] > 0.0
 
 
 @pytest.mark.parametrize("sim", SIMS)

@@ -34,3 +34,15 @@ def test_constant_offsets_give_offset_squared_over_speed():
 def test_standing_has_no_walking_quality():
     quality = walking_quality(trace(speed=0.0, offset_y=0.01, zmp_offset_x=0.0))
     assert quality == {"walk_speed_mps": None, "e_com": None, "e_zmp": None, "e_velocity": None}
+
+
+def test_a_plan_that_is_the_state_has_no_com_terms():
+    """A planner whose plan's CoM is its state (`Planner.plans_com_trajectory` False) has
+    no e_c or e_v (they would compare the state with itself); its e_z stays."""
+    quality = walking_quality(
+        trace(speed=0.25, offset_y=0.01, zmp_offset_x=0.02), plans_com_trajectory=False
+    )
+    assert quality["e_com"] is None
+    assert quality["e_velocity"] is None
+    assert quality["e_zmp"] == pytest.approx(0.02**2 / 0.25, rel=1e-3)
+    assert quality["walk_speed_mps"] == pytest.approx(0.25, rel=1e-3)

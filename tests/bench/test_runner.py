@@ -338,6 +338,27 @@ def test_hand_task_is_the_planners_flag():
     assert {name for name, flag in flags.items() if flag} == {"capturability_hierarchy"}
 
 
+def test_only_the_hierarchys_plan_is_its_state():
+    """`plans_com_trajectory`: every planner but Sherikov's hierarchy plans its CoM ahead of
+    the state; the hierarchy's plan's CoM is the state it was computed from (it has no CoM
+    tracking error: tests/bench/test_capturability_hierarchy.py)."""
+    from planners.base import PLANNERS
+
+    flags = {
+        name: PLANNERS.get(name).factory(0.002).plans_com_trajectory for name in PLANNERS.names()
+    }
+    assert {name for name, flag in flags.items() if not flag} == {"capturability_hierarchy"}
+
+
+@pytest.mark.parametrize("sim", SIMS)
+def test_a_planned_com_has_a_tracking_error(standing, sim):
+    """`hold` plans its CoM (settling above the support): the summary records that, and a CoM
+    tracking error that the standing robot's sway makes positive."""
+    summary = standing[sim].summary
+    assert summary["plans_com_trajectory"] is True
+    assert summary["com_error_rms_m"] > 0.0
+
+
 def test_the_hierarchy_records_that_it_drives_the_hand():
     result = run_episode(
         EpisodeSpec(
