@@ -118,6 +118,7 @@ ROW_SCHEMA = pa.schema(
         ("hand_error_final_m", _FLOAT),
         ("hand_task", _BOOL),
         ("plans_com_trajectory", _BOOL),
+        ("push_shift_s", _FLOAT),
         ("angular_momentum_error_base_vs_constant", _FLOAT),
         ("angular_momentum_error_all_vs_constant", _FLOAT),
         ("angular_momentum_error_constant_vs_euler", _FLOAT),
@@ -158,6 +159,9 @@ def summary_row(
     """One `ROW_SCHEMA` row from the sweep's labels, the runner's summary and its trace."""
     row: dict[str, Any] = {name: None for name in ROW_SCHEMA.names}
     row.update(labels)
+    if row.get("push_time_s") is not None and summary.get("push_shift_s"):
+        # the labels give the protocol's push time; a replica's push came this much later
+        row["push_time_s"] = row["push_time_s"] + summary["push_shift_s"]
     for key in (
         "robot",
         "planner",
@@ -198,6 +202,7 @@ def summary_row(
         "hand_error_final_m",
         "hand_task",
         "plans_com_trajectory",
+        "push_shift_s",
         "timed_from_s",
         "torque_share_max",
         "torque_share_joint",

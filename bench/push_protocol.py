@@ -265,8 +265,9 @@ def _pushes(
     directions: tuple[str, ...],
 ) -> Iterator[tuple[dict, Any]]:
     """Every level x direction x replica of one phase (and swing fraction) from `base`. A
-    replica's push may start up to `bench.runner.REPLICA_PUSH_JITTER_S` late: its episode
-    gets that much more time, so that every replica is judged over the whole survival time."""
+    replica's push starts up to `bench.runner.REPLICA_PUSH_JITTER_S` earlier or later than
+    the protocol's (its row's `push_time_s` is its own): its episode gets that much more
+    time, so that every replica is judged over the whole survival time."""
     from bench.runner import REPLICA_PUSH_JITTER_S
 
     for dv in protocol.dv:
@@ -282,7 +283,7 @@ def _pushes(
                 labels = {"push_phase": phase, "push_dv_mps": dv, "push_index": index}
                 for replica in range(protocol.replicas):
                     longer = {}
-                    if replica > 0:  # its push may start up to the jitter late
+                    if replica > 0:  # its push may start up to the jitter later
                         longer["duration"] = base.duration + REPLICA_PUSH_JITTER_S
                     yield (
                         labels,

@@ -362,6 +362,8 @@ def _run_episode(
         "hand_error_final_m": None,
         "hand_task": None,
         "plans_com_trajectory": None,
+        # a replica's pushes start this much later [s] than its protocol's (`replica_changes`)
+        "push_shift_s": 0.0,
         "angular_momentum_error": None,
         **TorqueUse((), np.zeros(0)).summary(),
         "latency_by_contacts_us": {},
@@ -408,6 +410,7 @@ def _run_episode(
             else None
         )
         initial, push_shift = replica_changes(model.standing_state(), spec.seed, spec.replica)
+        summary["push_shift_s"] = push_shift
     except Exception as exc:  # bad spec: recorded, not raised
         summary.update(
             status="error", error=f"setup: {type(exc).__name__}: {exc}", error_stage="setup"

@@ -426,11 +426,14 @@ def _robustness_sections(episodes: pd.DataFrame) -> list[tuple[str, str, pd.Data
             (
                 "Robust push thresholds",
                 "Per push (a direction, and for walking pushes a swing fraction), the largest "
-                "level dv [m/s] survived in at least 4 of its 5 replicas at that level and at "
-                "every level below (0 when the lowest level is not); replicas differ by a "
-                "small seeded change of the initial state (base velocity, 1 cm/s) and the push "
-                "time (within 20 ms). Median, min and max over the pushes; incomplete: pushes "
-                "without 5 judged replicas at every level.",
+                "level dv [m/s] survived in at least 4 of its 5 replicas (80 %, rounded up, of "
+                "another count) at that level and at every level below ('< lowest' when the "
+                "lowest level is not); replicas differ by a small seeded change of the initial "
+                "state (base velocity, 1 cm/s) and the push time (within ±20 ms). Lower median "
+                "(a level that was run), min and max over the pushes. Counted apart, without a "
+                "threshold: incomplete, a push without its judged replicas at every level it "
+                "was run at (an error, a timeout); before push, a push with a replica that "
+                "fell before the push came.",
                 thresholds,
             )
         )
@@ -457,8 +460,10 @@ def _robustness_sections(episodes: pd.DataFrame) -> list[tuple[str, str, pd.Data
                 "Walking pushes by timing and direction",
                 "Walking pushes centred at a fraction of the single support, inward, outward, "
                 "forward or backward relative to the support foot (or in the protocol's random "
-                "directions): survived over all levels and replicas, with the 95 % Wilson "
-                "interval.",
+                "directions): per level, the pushes survived out of those run, a push with "
+                "replicas counting as survived in 4 of its 5 (no interval: a push's replicas "
+                "are not independent trials, and each named direction is one push). Pushes "
+                "fallen before they came, or without their judged replicas, are left out.",
                 directions,
             )
         )
@@ -472,10 +477,21 @@ def _robustness_sections(episodes: pd.DataFrame) -> list[tuple[str, str, pd.Data
                 "control periods; model errors, actuation, ground): survival with "
                 "the 95 % Wilson interval and the median CoM tracking error [mm], per protocol "
                 "(the pushes, or the plain scenario: survived = no fall); the nominal episodes "
-                "are each dimension's nominal magnitude.",
+                "are each dimension's nominal magnitude. A pushed episode that fell before "
+                "its push counts here as not survived (not standing until the push is part of "
+                "what a perturbation degrades); before push: how many did. Errors, timeouts "
+                "and n/a rows are not counted.",
                 degradation[
-                    [*tables.KEYS, "protocol", "dimension", "magnitude", "survival", "com_rms_mm"]
-                ],
+                    [
+                        *tables.KEYS,
+                        "protocol",
+                        "dimension",
+                        "magnitude",
+                        "survival",
+                        "before_push",
+                        "com_rms_mm",
+                    ]
+                ].rename(columns={"before_push": "before push"}),
             )
         )
         result.append(

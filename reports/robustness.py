@@ -18,9 +18,9 @@ from scipy import stats
 
 from reports.outcomes import ended_before_push, judged, judged_push
 from reports.statistics import (
-    ROBUST_REPLICAS,
     fraction_cell,
     paired_table,
+    robust_required,
     robust_threshold,
     simulator_band,
     wilson_interval,
@@ -101,7 +101,10 @@ def degradation_table(episodes: pd.DataFrame) -> pd.DataFrame:
     """Per controller x simulator x protocol x dimension x magnitude (the nominal episodes as
     magnitude 0 or 1, whichever the dimension leaves unchanged, of every dimension): survival
     k/n with its 95 % Wilson interval (rate, low, high) over the judged episodes and the
-    median CoM tracking error [mm]. Empty without robustness episodes."""
+    median CoM tracking error [mm]. A pushed episode that fell before its push counts as not
+    survived here (unlike the push tables: under a perturbation, not standing until the push
+    is part of what the dimension degrades); `before_push` says how many of them there are.
+    Empty without robustness episodes."""
     labels = perturbation_labels(episodes)
     if (labels == "nominal").all():
         return pd.DataFrame()
@@ -113,6 +116,7 @@ def degradation_table(episodes: pd.DataFrame) -> pd.DataFrame:
     rows["label"] = perturbation_labels(rows)
     rows["protocol"] = protocol_of(rows)
     rows["alive"] = _survived(rows)
+    rows["early"] = ended_before_push(rows)
     single = rows["label"].str.fullmatch(r"[A-Za-z0-9_]+=[-0-9.e+]+")
     perturbed = rows[single].copy()
     perturbed[["dimension", "magnitude"]] = perturbed["label"].str.split("=", expand=True)
@@ -134,6 +138,7 @@ def degradation_table(episodes: pd.DataFrame) -> pd.DataFrame:
     result = grouped.agg(
         survived=("alive", "sum"),
         episodes=("alive", "size"),
+        before_push=("early", "sum"),
         com_rms_mm=("com_error_rms_m", lambda s: 1e3 * s.median()),
     ).reset_index()
     intervals = [
@@ -183,8 +188,8 @@ def half_survival_table(degradation: pd.DataFrame) -> pd.DataFrame:
             half = "-"
         else:
             lost = order[order["rate"] <= rate / 2]
-            tested = order["magnitude"].abs().max() if len(order) else base
-            half = f"{lost['magnitude'].iloc[0]:g}" if len(lost) else f"beyond {tested:g}"
+            farthest = order["magnitude"].iloc[-1]  # the tested magnitude farthest out, signed
+            half = f"{lost['magnitude'].iloc[0]:g}" if len(lost) else f"beyond {farthest:g}"
         rows.append(
             {
                 "controller": controller,
@@ -203,12 +208,16 @@ def half_survival_table(degradation: pd.DataFrame) -> pd.DataFrame:
 def robust_threshold_table(episodes: pd.DataFrame) -> pd.DataFrame:
     """Per controller x simulator x phase x push (a world direction, and for walking pushes a
     swing fraction, with its seed, scale, friction and robot) that has replicas: the robust
-    threshold (`reports.statistics.robust_threshold`: the largest dv [m/s] survived in 4 of 5
-    replicas at it and at every level below) over the levels at which the push was
-    replicated, summarised per controller x simulator x phase x direction kind x swing
-    fraction as median, min and max over the pushes. A push without 5 judged replicas at
-    every one of its replicated levels (an error or a timeout among them) is counted as
-    incomplete, not given a threshold. Empty without replicas."""
+    threshold (`reports.statistics.robust_threshold`: the largest dv [m/s] survived by
+    `robust_required(R)` of its R replicas, 4 of 5, at it and at every level below) over
+    every level the push was run at, summarised per controller x simulator x phase x
+    direction kind x swing fraction over the pushes that have one: the lower median (a
+    level that was run; "< lowest" when a push does not survive its lowest level so; those
+    pushes count, as below every level), min and max, as text. Pushes counted apart, with no
+    threshold: `incomplete`, a level without R judged replicas (an error, a timeout, or a
+    level run without its replicas); `before push`, a replica that fell, or whose controller
+    failed, before its push came (`reports.outcomes.ended_before_push`: it says nothing of
+    push recovery). Empty without replicas."""
     if "replica" not in episodes or episodes["replica"].fillna(0).max() < 1:
         return pd.DataFrame()
     rows = episodes[(perturbation_labels(episodes) == "nominal") & episodes["push_phase"].notna()]
@@ -220,39 +229,56 @@ def robust_threshold_table(episodes: pd.DataFrame) -> pd.DataFrame:
         push=episode_key(rows, without=("push_dv_mps",)),
         replica=rows["replica"].fillna(0).astype(int),
         judged=judged(rows),
+        early=ended_before_push(rows),
         alive=rows["survived"].fillna(False).astype(bool),
     )
     result = []
     keys = [*KEYS, "push_phase", "direction", "fraction"]
     for key, group in rows.groupby(keys, sort=True):
-        thresholds, incomplete = [], 0
+        thresholds, incomplete, before = [], 0, 0
+        lowest = math.inf
         for _, push in group.groupby("push", sort=True):
-            replicated = sorted(set(push.loc[push["replica"] > 0, "push_dv_mps"]))
-            if not replicated:
+            replicas = int(push["replica"].max()) + 1
+            if replicas < 2:
                 continue  # a push of a protocol without replicas
+            if push["early"].any():
+                before += 1
+                continue
             levels = {
                 dv: list(push.loc[(push["push_dv_mps"] == dv) & push["judged"], "alive"])
-                for dv in replicated
+                for dv in sorted(set(push["push_dv_mps"]))
             }
-            if any(len(outcomes) != ROBUST_REPLICAS for outcomes in levels.values()):
+            lowest = min(lowest, min(levels))
+            if any(len(outcomes) != replicas for outcomes in levels.values()):
                 incomplete += 1
                 continue
-            value = robust_threshold(levels)
-            thresholds.append(0.0 if value is None else value)
-        if not thresholds and not incomplete:
+            value = robust_threshold(levels, robust_required(replicas), replicas)
+            thresholds.append(-math.inf if value is None else value)
+        if not thresholds and not incomplete and not before:
             continue
-        values = np.array(thresholds) if thresholds else np.array([np.nan])
+        values = sorted(thresholds)
+        median, low, high = (
+            (values[(len(values) - 1) // 2], values[0], values[-1]) if values else (None,) * 3
+        )
         result.append(
             {
                 **dict(zip(keys, key, strict=True)),
-                "pushes": len(thresholds),
-                "median dv m/s": float(np.median(values)),
-                "min dv m/s": float(values.min()),
-                "max dv m/s": float(values.max()),
+                "pushes": len(values),
+                "median dv m/s": _threshold_cell(median, lowest),
+                "min dv m/s": _threshold_cell(low, lowest),
+                "max dv m/s": _threshold_cell(high, lowest),
                 "incomplete": incomplete,
+                "before push": before,
             }
         )
     return pd.DataFrame(result)
+
+
+def _threshold_cell(value: float | None, lowest: float) -> str:
+    """A robust threshold [m/s] as printed: "< lowest" below every level (-inf), "–" none."""
+    if value is None:
+        return "–"
+    return f"< {lowest:g}" if value == -math.inf else f"{value:g}"
 
 
 def paired_comparisons(episodes: pd.DataFrame, phase: str) -> pd.DataFrame:
@@ -326,9 +352,14 @@ def levels_cell(pushes: pd.DataFrame) -> str:
 
 def direction_table(episodes: pd.DataFrame) -> pd.DataFrame:
     """Walking pushes by timing and direction: per controller x simulator x swing fraction x
-    direction (support-relative, or "random" for the uniform ones), survival over the levels
-    and replicas as k/n with its 95 % Wilson interval. Empty without support-relative
-    pushes or several swing fractions."""
+    direction (support-relative, or "random" for the uniform ones), one column per level
+    ("dv 0.2 m/s"): the pushes survived out of the pushes run, a push with replicas counting
+    as survived when `robust_required(R)` of its R replicas survived (4 of 5), without an
+    interval: the replicas of one push differ only by a small seeded change of the initial
+    state and the push time, so they are not independent trials, and each named direction is
+    one push. Pushes that fell before they came (`reports.outcomes.judged_push`) or without
+    R judged replicas are left out. Empty without support-relative pushes or several swing
+    fractions."""
     rows = episodes[perturbation_labels(episodes) == "nominal"]  # every replica
     rows = rows[(rows["push_phase"] == "walking") & judged_push(rows)]
     if rows.empty or "push_direction_name" not in rows:
@@ -337,18 +368,33 @@ def direction_table(episodes: pd.DataFrame) -> pd.DataFrame:
         direction=rows["push_direction_name"].fillna("random"),
         fraction=rows["push_swing_fraction"].fillna(0.5),
         alive=rows["survived"].fillna(False).astype(bool),
+        replica=rows["replica"].fillna(0).astype(int) if "replica" in rows else 0,
+        push=episode_key(rows),
     )
     if rows["direction"].eq("random").all() and rows["fraction"].nunique() == 1:
         return pd.DataFrame()
-    table = (
-        rows.groupby([*KEYS, "fraction", "direction"], sort=True)["alive"]
-        .agg(["sum", "size"])
+    keys = [*KEYS, "fraction", "direction", "push_dv_mps"]
+    pushes = (
+        rows.groupby([*keys, "push"], sort=True)
+        .agg(alive=("alive", "sum"), judged=("alive", "size"), replicas=("replica", "max"))
         .reset_index()
     )
-    table["survival"] = [
-        fraction_cell(int(k), int(n)) for k, n in zip(table["sum"], table["size"], strict=True)
+    pushes["replicas"] += 1
+    pushes = pushes[pushes["judged"] == pushes["replicas"]]
+    required = [robust_required(int(r)) for r in pushes["replicas"]]
+    pushes["survived"] = pushes["alive"] >= required
+    counts = pushes.groupby(keys, sort=True)["survived"].agg(["sum", "size"]).reset_index()
+    counts["cell"] = [
+        f"{int(k)}/{int(n)}" for k, n in zip(counts["sum"], counts["size"], strict=True)
     ]
-    return table.drop(columns=["sum", "size"]).rename(columns={"fraction": "swing fraction"})
+    counts["level"] = [f"dv {dv:g} m/s" for dv in counts["push_dv_mps"]]
+    table = counts.pivot_table(
+        index=[*KEYS, "fraction", "direction"], columns="level", values="cell", aggfunc="first"
+    )
+    levels = sorted(set(counts["push_dv_mps"]))
+    table = table[[f"dv {dv:g} m/s" for dv in levels]].fillna("").reset_index()
+    table.columns.name = None
+    return table.rename(columns={"fraction": "swing fraction"})
 
 
 REPLAY_FOLDER = "replays"  # in the report's folder: <episode_id>.html (`centrobench replay`)

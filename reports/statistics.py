@@ -35,11 +35,21 @@ ROBUST_REQUIRED = 4  # replicas survived at a level ...
 ROBUST_REPLICAS = 5  # ... out of this many (DESIGN.md)
 
 
+def robust_required(replicas: int) -> int:
+    """How many of `replicas` replicas a level must survive for the robust threshold: DESIGN's
+    4 of 5, and for another count the same fraction rounded up (8 of 10, 3 of 3, 1 of 1)."""
+    if replicas < 1:
+        raise ValueError(f"replicas must be at least 1, got {replicas}")
+    return math.ceil(ROBUST_REQUIRED * replicas / ROBUST_REPLICAS - 1e-9)
+
+
 def wilson_interval(
     survived: int, trials: int, confidence: float = CONFIDENCE
 ) -> tuple[float, float]:
     """The Wilson score interval (low, high) of the fraction `survived` / `trials`; (nan, nan)
-    without trials."""
+    without trials. Counts must be whole numbers (ValueError otherwise)."""
+    if survived != int(survived) or trials != int(trials):
+        raise ValueError(f"counts must be whole numbers, got {survived} of {trials}")
     if trials <= 0:
         return (math.nan, math.nan)
     if not 0 <= survived <= trials:
@@ -118,7 +128,9 @@ def median_interval(values: Iterable[float], confidence: float = CONFIDENCE) -> 
 
 
 def fraction_cell(survived: int, trials: int) -> str:
-    """ "k/n (low-high %)" with the Wilson interval in whole percent; "0/0" without trials."""
+    """ "k/n (low-high %)" with the Wilson interval rounded to the nearest whole percent (so
+    a printed bound may lie up to half a percent inside the computed one); "0/0" without
+    trials."""
     if trials <= 0:
         return "0/0"
     low, high = wilson_interval(survived, trials)

@@ -49,6 +49,26 @@ def test_every_scalar_summary_field_reaches_its_typed_column():
     assert 0.5 < table.column("hand_error_final_m")[0].as_py() < 0.52
 
 
+def test_a_replicas_row_has_its_own_push_time():
+    """A replica's push starts up to 20 ms earlier or later than its protocol's
+    (`bench.runner.replica_changes`): its row's `push_time_s` is its own, so that "fell before
+    the push" is judged against the push it got; replica 0's is the protocol's."""
+    from bench.runner import EpisodeSpec, replica_changes, run_episode
+    from robots.model import cached_model
+    from robots.robot_registry import make_robot
+
+    standing = cached_model(make_robot()).standing_state()
+    for replica in (0, 3):
+        result = run_episode(
+            EpisodeSpec("hold", "posture", "mujoco", "stand_push", duration=0.05, replica=replica)
+        )
+        _, shift = replica_changes(standing, 0, replica)
+        assert result.summary["push_shift_s"] == shift
+        row = summary_row({"push_time_s": 1.5}, result.summary, result.trace, 0.05, 1.0)
+        assert row["push_time_s"] == pytest.approx(1.5 + shift, abs=1e-12)
+        assert (shift == 0.0) == (replica == 0)
+
+
 @pytest.mark.parametrize(
     ("stage", "survived"),
     [("planner", False), ("estimator", False), ("sim", None), ("setup", None)],

@@ -141,13 +141,63 @@ def test_half_survival_is_the_first_magnitude_at_half_the_nominal_rate(episodes)
 def test_robust_thresholds_take_4_of_5_replicas_at_every_level(episodes):
     table = robustness.robust_threshold_table(episodes)
     table = table[table["sim"] == "mujoco"].set_index("controller")
-    # a+x push 0: 5, 4, 2 of 5 -> 0.3; push 1 all -> 0.4: median 0.35, min 0.3
-    assert table.loc["a+x", "min dv m/s"] == pytest.approx(0.3)
-    assert table.loc["a+x", "max dv m/s"] == pytest.approx(0.4)
-    assert table.loc["a+x", "median dv m/s"] == pytest.approx(0.35)
+    # a+x push 0: 5, 4, 2 of 5 -> 0.3; push 1 all -> 0.4: lower median 0.3 (a level run,
+    # not the 0.35 between them), min 0.3
+    assert table.loc["a+x", "min dv m/s"] == "0.3"
+    assert table.loc["a+x", "max dv m/s"] == "0.4"
+    assert table.loc["a+x", "median dv m/s"] == "0.3"
     # b+y push 0: 5, 5, 4 of 5 -> 0.4
-    assert table.loc["b+y", "min dv m/s"] == pytest.approx(0.4)
+    assert table.loc["b+y", "min dv m/s"] == "0.4"
     assert table.loc["a+x", "pushes"] == 2
+
+
+def _replicated(controller, levels, survived, replicas=5, index=0, **values):
+    """Push `index` at each level with `replicas` replicas, the first survived[level] of
+    which survive."""
+    return [
+        _push(controller, "mujoco", level, index, replica < k, replica=replica, **values)
+        for level, k in zip(levels, survived, strict=True)
+        for replica in range(replicas)
+    ]
+
+
+def test_a_push_below_its_lowest_level_is_below_every_level_not_zero():
+    """Thresholds {below 0.2, 0.4}: the median is the lower one, "< 0.2", not the mean of
+    0 and 0.4 (a level never run); min "< 0.2", max 0.4."""
+    rows = _replicated("a+x", LEVELS, (3, 5, 5), index=0)
+    rows += _replicated("a+x", LEVELS, (5, 5, 5), index=1)
+    row = robustness.robust_threshold_table(pd.DataFrame(rows)).iloc[0]
+    assert (row["pushes"], row["median dv m/s"]) == (2, "< 0.2")
+    assert (row["min dv m/s"], row["max dv m/s"]) == ("< 0.2", "0.4")
+
+
+def test_a_push_fallen_before_it_came_has_no_threshold():
+    """Every replica fell at 0.7 s, before its 1.5 s push: counted under "before push", not
+    as a push below its lowest level (it was never pushed)."""
+    rows = _replicated("a+x", LEVELS, (0, 0, 0), push_time_s=1.5, fall_time=0.7)
+    row = robustness.robust_threshold_table(pd.DataFrame(rows)).iloc[0]
+    assert (row["pushes"], row["before push"], row["incomplete"]) == (0, 1, 0)
+    assert row["median dv m/s"] == "–"
+
+
+def test_a_level_run_without_its_replicas_makes_the_push_incomplete():
+    """0.3 m/s has only replica 0 (an interrupted sweep), which fell: the push has no
+    threshold (before, the level was skipped and the threshold read 0.4)."""
+    rows = [
+        row
+        for row in _replicated("a+x", LEVELS, (5, 0, 5))
+        if row["push_dv_mps"] != 0.3 or row["replica"] == 0
+    ]
+    row = robustness.robust_threshold_table(pd.DataFrame(rows)).iloc[0]
+    assert (row["pushes"], row["incomplete"]) == (0, 1)
+
+
+@pytest.mark.parametrize(("replicas", "survived", "threshold"), [(10, 8, "0.4"), (10, 7, "< 0.2")])
+def test_another_replica_count_takes_the_same_fraction(replicas, survived, threshold):
+    """10 replicas: 8 of 10 (80 %, as 4 of 5) makes a level; 7 does not."""
+    rows = _replicated("a+x", LEVELS, (survived,) * 3, replicas=replicas)
+    row = robustness.robust_threshold_table(pd.DataFrame(rows)).iloc[0]
+    assert (row["pushes"], row["incomplete"], row["median dv m/s"]) == (1, 0, threshold)
 
 
 def test_paired_comparison_equals_scipys_exact_test(episodes):
@@ -166,9 +216,9 @@ def test_paired_comparison_equals_scipys_exact_test(episodes):
 
 def test_direction_table_and_the_simulator_band(episodes):
     directions = robustness.direction_table(episodes)
-    cells = directions.set_index(["controller", "direction"])["survival"]
-    assert cells[("a+x", "inward")] == fraction_cell(0, 1)
-    assert cells[("a+x", "outward")] == fraction_cell(1, 1)
+    cells = directions.set_index(["controller", "direction"])["dv 0.3 m/s"]
+    assert cells[("a+x", "inward")] == "0/1"
+    assert cells[("a+x", "outward")] == "1/1"
     headline = robustness.headline_survival(episodes).set_index("controller")
     # a+x protocol pushes (replica 0): mujoco 6 + 10 nominal noise-curve pushes all survived
     assert headline.loc["a+x", "mujoco"] == fraction_cell(16, 16)
@@ -265,7 +315,7 @@ def test_replicas_whose_controller_failed_count_as_not_surviving_the_level():
             rows.append(row)
     table = robustness.robust_threshold_table(pd.DataFrame(rows))
     assert (table.iloc[0]["pushes"], table.iloc[0]["incomplete"]) == (1, 0)
-    assert table.iloc[0]["min dv m/s"] == pytest.approx(0.3)
+    assert table.iloc[0]["min dv m/s"] == "0.3"
 
 
 def test_pushes_are_paired_by_seed_too():
@@ -329,6 +379,36 @@ def test_paired_comparisons_give_the_false_discovery_rate_of_the_tables_tests():
     assert table["q (BH)"].to_numpy() == pytest.approx(expected)
 
 
+def test_the_false_discovery_rate_on_a_hand_case():
+    """Benjamini-Hochberg by hand: p = (0.01, 0.04, 0.03) of 3 tests gives q = min over the
+    larger ranks of p m / rank = (0.03, 0.04, 0.04). Three controllers on the same 10 pushes:
+    a survives every one, b loses the first 2, c the first 6."""
+    assert stats.false_discovery_control([0.01, 0.04, 0.03], method="bh") == pytest.approx(
+        [0.03, 0.04, 0.04]
+    )
+    rows = []
+    for index in range(10):
+        for controller, lost in (("a+x", 0), ("b+y", 2), ("c+z", 6)):
+            rows.append(_push(controller, "mujoco", 0.3, index, index >= lost))
+    table = robustness.paired_comparisons(pd.DataFrame(rows), "standing")
+    p = {
+        (a, b): value
+        for a, b, value in zip(
+            table["controller A"], table["controller B"], table["p"], strict=True
+        )
+    }
+    # exact McNemar: d discordant pushes all one way give p = 2 / 2^d
+    assert p[("a+x", "b+y")] == pytest.approx(2 / 2**2)
+    assert p[("a+x", "c+z")] == pytest.approx(2 / 2**6)
+    assert p[("b+y", "c+z")] == pytest.approx(2 / 2**4)
+    pairs = list(zip(table["controller A"], table["controller B"], strict=True))
+    q = dict(zip(pairs, table["q (BH)"], strict=True))
+    # sorted p: 1/32 (rank 1), 1/8 (rank 2), 1/2 (rank 3): q = 3/32, 3/16, 1/2
+    assert q[("a+x", "c+z")] == pytest.approx(3 / 32)
+    assert q[("b+y", "c+z")] == pytest.approx(3 / 16)
+    assert q[("a+x", "b+y")] == pytest.approx(1 / 2)
+
+
 def test_a_levels_impulse_is_the_robots_or_the_range_over_the_robots():
     """J = m dv differs between robots of different mass: one robot, its J; several, their
     range (the header gave their mean before 2026-11-28, no robot's impulse)."""
@@ -379,3 +459,59 @@ def test_the_headline_survival_counts_the_unjudged_episodes_and_names_the_level(
     assert headline.loc["a+x", "mujoco"] == fraction_cell(3, 3) + ", 1 not judged"
     impulse = float(episodes["push_impulse_Ns"].iloc[0])
     assert headline.loc["a+x", "levels"] == f"0.3 m/s ({impulse:.1f} N s)"
+
+
+def test_the_direction_table_counts_pushes_not_replicas():
+    """One inward push at three levels with 5 replicas each (4, 5 and 2 survived): per level
+    1/1, 1/1, 0/1 pushes (4 of 5 replicas make a push survived), not "11/15" pooled with an
+    interval as if the replicas were independent trials."""
+    rows = []
+    for level, k in zip(LEVELS, (4, 5, 2), strict=True):
+        for replica in range(5):
+            for name in ("inward", "outward"):
+                alive = replica < k if name == "inward" else True
+                rows.append(
+                    _row(
+                        controller="a+x",
+                        sim="mujoco",
+                        scenario="walk_push",
+                        push_phase="walking",
+                        push_dv_mps=level,
+                        push_direction_name=name,
+                        push_swing_fraction=0.2,
+                        replica=replica,
+                        status="ok" if alive else "fell",
+                        survived=alive,
+                    )
+                )
+    table = robustness.direction_table(pd.DataFrame(rows)).set_index("direction")
+    assert list(table.loc["inward", ["dv 0.2 m/s", "dv 0.3 m/s", "dv 0.4 m/s"]]) == [
+        "1/1",
+        "1/1",
+        "0/1",
+    ]
+    assert list(table.loc["outward", ["dv 0.2 m/s", "dv 0.3 m/s", "dv 0.4 m/s"]]) == ["1/1"] * 3
+
+
+def test_the_degradation_table_says_how_many_fell_before_their_push():
+    """A payload that fells the robot at 0.8 s, before its 1.5 s push, in 10 of 10 episodes:
+    not survived (not standing is part of the degradation), and counted under before_push."""
+    rows = []
+    for index in range(10):
+        rows.append(_push("a+x", "mujoco", 0.3, index, True, push_time_s=1.5))
+        rows.append(
+            _push(
+                "a+x",
+                "mujoco",
+                0.3,
+                index,
+                False,
+                push_time_s=1.5,
+                fall_time=0.8,
+                perturbation="payload_kg=10",
+                payload_kg=10.0,
+            )
+        )
+    table = robustness.degradation_table(pd.DataFrame(rows)).set_index("magnitude")
+    assert (table.loc[10.0, "survived"], table.loc[10.0, "before_push"]) == (0, 10)
+    assert (table.loc[0.0, "survived"], table.loc[0.0, "before_push"]) == (10, 0)

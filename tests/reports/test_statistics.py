@@ -13,6 +13,7 @@ from reports.statistics import (
     fraction_cell,
     paired_table,
     paired_test,
+    robust_required,
     robust_threshold,
     simulator_band,
     wilson_interval,
@@ -40,6 +41,13 @@ def test_wilson_interval_without_trials_is_nan_and_bad_counts_are_refused():
     assert all(math.isnan(x) for x in wilson_interval(0, 0))
     with pytest.raises(ValueError, match="survived must be in"):
         wilson_interval(21, 20)
+    with pytest.raises(ValueError, match="whole numbers"):
+        wilson_interval(2.7, 10)  # not truncated to 2
+
+
+@pytest.mark.parametrize(("replicas", "required"), [(5, 4), (10, 8), (3, 3), (2, 2), (1, 1)])
+def test_the_robust_share_is_4_of_5_for_any_replica_count(replicas, required):
+    assert robust_required(replicas) == required
 
 
 def test_fraction_cell_shows_the_interval_in_percent():
