@@ -305,7 +305,13 @@ class FiveMassGaitPlanner:
         swing = self._swing()
         self.previous = self._copy(self.feet[self.support])
         self.feet[swing] = self._copy(self.next)
-        self.path[swing] = self.next_path
+        # eq. 17 sets the step's distance from the support foot, and the reference is the
+        # LIPM in the support's frame: the path goes on from where the step was put and the
+        # reference moves with it, by the adjustment (Kajita's refinement is not: `next_path`)
+        adjustment = self.next.position[:2] - self.next_nominal.position[:2]
+        self.path[swing] = self._copy(self.next_path)
+        self.path[swing].position[:2] += adjustment
+        self.com_ref = self.com_ref + adjustment
         self.support = swing
         self.heading_from = self.feet[swing].yaw  # eq. 5: s_psi[k]
         self.step_start_time = t

@@ -126,6 +126,45 @@ def test_eq_17_a_sagittal_lead_lengthens_the_step(model):
     np.testing.assert_array_equal(planner.next.position, nominal)
 
 
+def _landings(model, lead_m: float, during_step: int) -> list[np.ndarray]:
+    """The support footholds of `walk` (the state following the reference, but `lead_m`
+    ahead of it during step `during_step`), one per support exchange."""
+    planner, state = _start(model, make_scenario("walk", model))
+    landed, last, t = [], None, 0.0
+    while planner.mode != "stop":
+        plan = planner.plan(t, state)
+        ahead = lead_m if planner.mode == "walk" and planner.steps_done == during_step else 0.0
+        state = replace(
+            state,
+            com_position_world=plan.com_planned_world + np.array([ahead, 0.0, 0.0]),
+            com_velocity_world=plan.com_velocity_planned_world,
+        )
+        if planner.mode == "walk" and planner.steps_done != last:
+            last = planner.steps_done
+            landed.append(planner.feet[planner.support].position[:2].copy())
+        t += DT
+    landed.append(planner.feet[planner.support].position[:2].copy())
+    return landed
+
+
+def test_eq_17_sets_the_steps_distance_from_where_the_support_foot_is(model):
+    """Eq. 17 gives the next foothold's distance from the support foot: a lead of 1 cm during
+    step 6 lengthens that step, and every later step is as long as without it, from where the
+    adjusted foot landed (the reference moves with the support, in whose frame the LIPM is);
+    the walk ends further by the adjustment. (Until 2026-11-29 the next step was planned from
+    the unadjusted path and the reference ran about the adjusted foot: the step after a 1 cm
+    adjustment was 0.6 cm long instead of 7, and the walk zig-zagged back to the old path.)"""
+    nominal = np.array(_landings(model, 0.0, 6))
+    pushed = np.array(_landings(model, 0.01, 6))
+    assert len(nominal) == len(pushed)
+    adjustment = pushed[7, 0] - nominal[7, 0]  # step 7 was planned during step 6
+    assert adjustment > 0.005  # the lead lengthened it (measured 1.0 cm)
+    np.testing.assert_allclose(pushed[:7], nominal[:7], atol=1e-12)
+    lengths, pushed_lengths = np.diff(nominal[:, 0]), np.diff(pushed[:, 0])
+    np.testing.assert_allclose(pushed_lengths[7:], lengths[7:], atol=1e-3)
+    assert pushed[-1, 0] - nominal[-1, 0] == pytest.approx(adjustment, abs=1e-3)
+
+
 def test_standing_the_reference_starts_at_the_robots_com_and_settles_on_the_feet(model):
     """JVRC-1's half-sitting has its CoM 19.8 mm behind the feet's midpoint: the reference CoM
     starts at the robot's own (no step at t = 0, which threw the robot forward), is continuous,
