@@ -47,7 +47,7 @@ from bench.motions import (
 from centroidal.rotations import heading_quaternion, yaw_of
 from robots.gait import GAIT_STEPS, GaitCommand
 from robots.model import RobotModel
-from robots.registry import FLAT_GROUND, MULTI_CONTACT
+from robots.registry import FLAT_GROUND, MULTI_CONTACT, WALKING
 from robots.scene import Contact, ContactPhase, HandTarget, PushEvent, Scenario, Scene
 
 WALK_STEPS = GAIT_STEPS  # steps of `walk` (and so the single-support phases `walk_push` pushes)
@@ -359,7 +359,10 @@ SCENARIOS: dict[str, ScenarioSpec] = {
         "walk_side", walk_side, "10 steps to the left, 0.05 m each, left foot first"
     ),
     "walk_turn": ScenarioSpec(
-        "walk_turn", walk_turn, "10 steps turning left 10 deg each (90 deg), 0.05 m forward"
+        "walk_turn",
+        walk_turn,
+        "10 steps turning left 10 deg each (90 deg), 0.05 m forward",
+        requires=WALKING,
     ),
     "reach": ScenarioSpec(
         "reach",

@@ -85,9 +85,10 @@ class Preview:
 
         Z' = d_known @ (c_0, c'_0) + d_acc * c''_0 + d_cop @ Z
 
-    with z'_k = (z_{k+1} - z_k) / T and z_0 = c_0 - c''_0 / omega^2 the CoP now (eq. 10);
-    shapes (N, 2), (N,), (N, N). `a`, `b` are the one-interval matrices of `discretize`.
-    All arrays are read-only.
+    with z'_k = (z_{k+1} - z_k) / T_k and z_0 = c_0 - c''_0 / omega^2 the CoP now (eq. 10);
+    shapes (N, 2), (N,), (N, N). The first interval lasts `first_s` [s] (T_0; `period_s`
+    unless the preview is aligned with a step schedule), the others `period_s` (T). `a`, `b`
+    are the one-interval matrices of `discretize` for `period_s`. All arrays are read-only.
     """
 
     height_m: float
@@ -102,28 +103,34 @@ class Preview:
     d_known: np.ndarray
     d_acc: np.ndarray
     d_cop: np.ndarray
+    first_s: float = 0.0
 
 
-def preview(height_m: float, period_s: float, n: int) -> Preview:
-    """Build the `Preview` of eq. 10 over `n` >= 1 intervals of `period_s` [s] at CoM height
-    `height_m` [m] (the paper: N = 16 intervals of 0.1 s, two steps of 0.8 s, Sec. VII)."""
+def preview(height_m: float, period_s: float, n: int, first_s: float | None = None) -> Preview:
+    """Build the `Preview` of eq. 10 over `n` >= 1 intervals at CoM height `height_m` [m]:
+    the first of `first_s` [s] (default `period_s`), the others of `period_s` [s] (the paper:
+    N = 16 intervals of 0.1 s, two steps of 0.8 s, Sec. VII; the first shortened to the step
+    schedule's grid as the authors' humoto does, `StepSchedule.sample_times`)."""
     if isinstance(n, bool) or int(n) != n or n < 1:
         raise ValueError(f"n must be a positive integer, got {n}")
     n = int(n)
     a, b = discretize(height_m, period_s)
     w = omega(height_m)
     t = float(period_s)
+    first = t if first_s is None else _check_positive("first_s", first_s)
+    lengths = [first] + [t] * (n - 1)
+    steps = [discretize(height_m, first) if first != t else (a, b)] + [(a, b)] * (n - 1)
 
     # Z' in terms of (c_0, c'_0), c''_0 and Z.
     d_known = np.zeros((n, 2))
     d_acc = np.zeros(n)
     d_cop = np.zeros((n, n))
-    d_known[0, 0] = -1.0 / t  # -z_0 / T with z_0 = c_0 - c''_0 / w^2
-    d_acc[0] = 1.0 / (t * w**2)
+    d_known[0, 0] = -1.0 / first  # -z_0 / T_0 with z_0 = c_0 - c''_0 / w^2
+    d_acc[0] = 1.0 / (first * w**2)
     for k in range(n):
-        d_cop[k, k] = 1.0 / t
+        d_cop[k, k] = 1.0 / lengths[k]
         if k > 0:
-            d_cop[k, k - 1] = -1.0 / t
+            d_cop[k, k - 1] = -1.0 / lengths[k]
 
     # s_0 = (c_0, c'_0, c''_0), then s_{k+1} = A s_k + B z'_k.
     known = np.array([[1.0, 0.0], [0.0, 1.0], [0.0, 0.0]])
@@ -133,9 +140,10 @@ def preview(height_m: float, period_s: float, n: int) -> Preview:
     s_acc = np.empty((n, 3))
     s_cop = np.empty((n, 3, n))
     for k in range(n):
-        known = a @ known + np.outer(b, d_known[k])
-        acc = a @ acc + b * d_acc[k]
-        cop = a @ cop + np.outer(b, d_cop[k])
+        a_k, b_k = steps[k]
+        known = a_k @ known + np.outer(b_k, d_known[k])
+        acc = a_k @ acc + b_k * d_acc[k]
+        cop = a_k @ cop + np.outer(b_k, d_cop[k])
         s_known[k], s_acc[k], s_cop[k] = known, acc, cop
 
     return Preview(
@@ -151,6 +159,7 @@ def preview(height_m: float, period_s: float, n: int) -> Preview:
         d_known=_read_only(d_known),
         d_acc=_read_only(d_acc),
         d_cop=_read_only(d_cop),
+        first_s=first,
     )
 
 

@@ -30,11 +30,13 @@ torsional friction coefficient, the footstep rectangles, the swing's vertical pr
 split of a step into 0.7 s single and 0.1 s double support (Herdt et al.'s), and when a
 standing robot starts to step (ours: its capture point 3 cm off the feet's middle; the paper's
 robot walks from the start of its tests), and, to make it stand and step on our robot in a
-simulator (each measured, docs/sherikov.md): the current CoP z_0 bounded too, a 2 cm margin
+simulator (each measured, docs/sherikov.md): the current CoP z_0 bounded too, a 1 cm margin
 inside the soles, a least load on every contact sole, contact-velocity damping in eq. 8, a
 CoM-height objective, the swing's orientation held by a PD, the footstep kept in the last
 0.1 s of a swing, and the "both feet" support as the box around both soles (exact for feet
-side by side).
+side by side). The preview's first interval is shortened to the step grid, so that its
+samples fall on the lift-offs, touchdowns and double supports' ends (as the authors' humoto
+does, module `wpg04`; the paper says only "at 100 ms").
 """
 
 from __future__ import annotations
@@ -53,6 +55,7 @@ from centroidal.whole_body_rows import WholeBodyTerms, whole_body_terms
 from planners.base import PlannerSpec, register
 from planners.step_schedule import FEET, StepSchedule, other_foot
 from robots.model import RobotModel
+from robots.registry import FLAT_GROUND
 from robots.scene import Scenario
 from robots.types import CentroidalPlan, Footstep, RobotState
 
@@ -92,7 +95,12 @@ HEIGHT_KP, HEIGHT_KD, HEIGHT_WEIGHT = 100.0, 20.0, 10.0  # CoM height held (ours
 SWING_ORIENTATION_KP, SWING_ORIENTATION_KD = 100.0, 20.0  # eq. 16's constant orientation, held
 SWING_TIME_FLOOR_S = 0.05  # [s] the cubics' remaining time no shorter (ours: see _swing_rows)
 CONTACT_DAMPING = 20.0  # [1/s] eq. 8 as J q'' + J' q' = -K J q' (ours, see _levels)
-SOLE_MARGIN_M = 0.02  # [m] eqs. 7, 11 keep the CoP this far inside the sole's edges (ours)
+SOLE_MARGIN_M = 0.01  # [m] eqs. 7, 11 keep the CoP this far inside the sole (ours: see below)
+"""The paper bounds the CoP by the sole itself (eqs. 7, 11). Ours: 1 cm inside it. At 0 the
+hierarchy's cascade fails at the end of the MuJoCo `walk` (18 failures, then an error at
+10.25 s; 2026-12-01); with the preview aligned to the steps (`StepSchedule.first_interval`)
+`reach_push` passes at 0 and 1 cm in both simulators and falls at 1.5 cm (4.56 s) and 2 cm
+(3.85 s, MuJoCo), 2 cm being the margin until 2026-12-01 (docs/sherikov.md)."""
 MIN_NORMAL_FORCE = 0.05  # a contact sole's least normal force, in units of m g (ours)
 REACH_FIRST_STEP_S, REACH_FIRST_SWING = 0.8, "left_foot"
 """A reach's walk starts 0.8 s after the first hand target (s, times sqrt(scale)), left foot
@@ -288,11 +296,15 @@ class CapturabilityHierarchyPlanner:
         com = pin.centerOfMass(self.model, self.data, q)
         self.height = float(com[2] - self.ground)
         self.omega = math.sqrt(GRAVITY / self.height)
-        self.preview = preview(
-            self.height, PREVIEW_PERIOD_S * math.sqrt(self.scale), PREVIEW_INTERVALS
-        )
-        self.capture_row = capture_velocity_row(self.preview)
         self.period_s = PREVIEW_PERIOD_S * math.sqrt(self.scale)
+        for phase_s in (SINGLE_SUPPORT_S, DOUBLE_SUPPORT_S):  # `_use_preview`'s alignment
+            if abs(phase_s / PREVIEW_PERIOD_S - round(phase_s / PREVIEW_PERIOD_S)) > 1e-9:
+                raise ValueError(
+                    f"step phases must be multiples of the preview's {PREVIEW_PERIOD_S} s, "
+                    f"got {phase_s} s"
+                )
+        self._previews: dict[int, tuple] = {}  # the aligned previews by first interval [us]
+        self._use_preview(self.period_s)
         self.schedule = StepSchedule(
             SINGLE_SUPPORT_S * math.sqrt(self.scale), DOUBLE_SUPPORT_S * math.sqrt(self.scale)
         )
@@ -301,6 +313,12 @@ class CapturabilityHierarchyPlanner:
         self.walk_by_push = False
         self.swing_height = scenario.swing_height
         gait = scenario.gait
+        if gait is not None and gait.turn_per_step(self.scale) != 0.0:
+            raise ValueError(
+                f"{self.name} cannot turn: its footstep rectangles and CoP boxes (eqs. 11-12) "
+                "and the swing foot's orientation are in world axes (ours), so it walks "
+                f"straight paths only; got {gait.turn_per_step(self.scale):.3g} rad per step"
+            )
         if gait is not None:
             forward, lateral = gait.step_length_for(self.scale)
             period = gait.step_period * math.sqrt(self.scale)
@@ -328,6 +346,18 @@ class CapturabilityHierarchyPlanner:
         self.held = 0  # periods in a row that held the last solution
         self.last_step: np.ndarray | None = None
         self._row_cache: dict | None = {}  # `_Rows`: the rows fixed for the episode, scaled
+
+    def _use_preview(self, first_s: float) -> None:
+        """The preview of eq. 10 whose first interval lasts `first_s` [s]
+        (`StepSchedule.first_interval`, with the step times multiples of the preview's
+        period, so that every lift-off, touchdown and double support's end in the horizon is
+        a sample), with eq. 14's row; built once per first interval."""
+        grid = round(first_s * 1e6)
+        if grid not in self._previews:
+            pre = preview(self.height, self.period_s, PREVIEW_INTERVALS, first_s=first_s)
+            self._previews[grid] = (pre, capture_velocity_row(pre))
+        self._grid = grid
+        self.preview, self.capture_row = self._previews[grid]
 
     # ------------------------------------------------------------------ one period
     def plan(self, t: float, state: RobotState) -> CentroidalPlan:
@@ -465,6 +495,7 @@ class CapturabilityHierarchyPlanner:
         a[:, lay.cdd] = -np.eye(2)
         first.equal(a, -terms.com_drift[:2], name="com_coupling")
         # the footholds and eqs. 11, 12, 16, 20, 21
+        self._use_preview(self.schedule.first_interval(t, self.period_s))
         supports = self.schedule.sample_supports(t, self.period_s, lay.samples)
         context = self._preview_rows(first, second, third, terms, phase, supports)
         # level 3: eqs. 18, 19 (and 17 when a hand target is set)
@@ -641,7 +672,8 @@ class CapturabilityHierarchyPlanner:
             if starting and footholds[k] == 0:
                 # before the first step: on both feet, centred on the first stance foot (the
                 # weight shift); after its lift-off, on the stance foot alone
-                lift_off = self._t + (k + 1) * self.period_s >= self.schedule.walk_start
+                sample = self._t + pre.first_s + k * self.period_s
+                lift_off = sample >= self.schedule.walk_start - 1e-9
                 centre, bounds = (anchor, foot_box) if lift_off else (anchor, box_about(anchor))
             centres[k] = centre
             lows[k], highs[k] = bounds[0] + centre, bounds[1] + centre
@@ -673,7 +705,7 @@ class CapturabilityHierarchyPlanner:
                 functools.partial(self._capture_row, axis),
                 -row_known @ np.array([c0[axis], dc0[axis]]),
                 name="capture",
-                key=("capture", axis),
+                key=("capture", axis, self._grid),
             )
             # eq. 22: CoP velocity
             third.equal(
@@ -681,7 +713,7 @@ class CapturabilityHierarchyPlanner:
                 -pre.d_known @ np.array([c0[axis], dc0[axis]]),
                 COP_VELOCITY_WEIGHT,
                 "cop_velocity",
-                key=("cop_velocity", axis),
+                key=("cop_velocity", axis, self._grid),
             )
             # velocity objective (ours, after [3]): the previewed CoM velocity
             if self.velocity_reference is not None:
@@ -692,7 +724,7 @@ class CapturabilityHierarchyPlanner:
                     VELOCITY_WEIGHT,
                     "com_velocity",
                     rowwise=True,
-                    key=("com_velocity", axis),
+                    key=("com_velocity", axis, self._grid),
                 )
         # eq. 16 (and 20): the swing foot
         if phase.swing is not None:
@@ -897,5 +929,6 @@ register(
         CapturabilityHierarchyPlanner,
         "Sherikov et al. 2014: whole-body inverse dynamics with K-step capturability (3 levels)",
         pairs_with=("passthrough",),
+        can=FLAT_GROUND,  # not turning: eqs. 11-12's boxes and the swing sole in world axes
     )
 )

@@ -95,10 +95,29 @@ class StepSchedule:
             return SchedulePhase(swing, other_foot(swing), step, touchdown, self.single_s - into)
         return SchedulePhase(None, swing, step, None, self.period_s - into)
 
+    def first_interval(self, t: float, period_s: float) -> float:
+        """[s] the preview's first interval at t, T_0 in (0, period_s]: up to the next point of
+        the walk's grid (its start plus multiples of period_s), so that the samples
+        t + T_0 + k period_s fall on its lift-offs, touchdowns and the ends of its double
+        supports when those are multiples of period_s apart (the caller checks), as the
+        authors' humoto shortens its first interval to the step grid (module `wpg04`);
+        period_s while standing without a walk scheduled."""
+        if self.walk_start is None:
+            return period_s
+        first = (self.walk_start - t) % period_s
+        return period_s if first < 1e-9 or first > period_s - 1e-9 else first
+
     def sample_supports(self, t: float, period_s: float, n: int) -> np.ndarray:
         """(n,) int: the support index (see the module) of preview samples k = 1..n at
-        t + k period_s, relative to the phase at t."""
+        t + T_0 + (k - 1) period_s (T_0: `first_interval`), relative to the phase at t. The
+        CoP of eq. 10 is linear between samples, so a sample at a touchdown stays on the foot
+        that carried the single support and one in the double support after it (its end
+        included) is on the landed foot: the previewed CoP crosses between the feet only
+        while both are down (until 2026-12-01 a sample at a touchdown was on the landed foot,
+        and on a grid not aligned with the steps the CoP left the stance foot up to one
+        interval before the touchdown, over the gap to a foot still in the air)."""
         now = self._step_at(t)
+        first_s = self.first_interval(t, period_s)
         supports = np.zeros(n, dtype=int)
         if now is None:
             if self.walk_start is None or t >= self.walk_start:
@@ -110,14 +129,15 @@ class StepSchedule:
             # 1; in the double support after a touchdown, the landed foot is the current one
             first = step_now if into < self.single_s - 1e-9 else step_now + 1
         for k in range(1, n + 1):
-            at = self._step_at(t + k * period_s)
-            if at is None and t + k * period_s < self.walk_start - 1e-12:
+            sample = t + first_s + (k - 1) * period_s
+            at = self._step_at(sample)
+            if at is None and sample < self.walk_start - 1e-12:
                 continue  # before the walk starts: on the current foothold (0)
             if at is None:  # the walk has ended by then: its last foothold
                 last = (self.steps or 0) - 1
                 supports[k - 1] = max(0, last - first + 1)
                 continue
             step, into_k = at
-            landed = step if into_k >= self.single_s - 1e-9 else step - 1
+            landed = step if into_k > self.single_s + 1e-9 else step - 1
             supports[k - 1] = max(0, landed - first + 1)
         return supports

@@ -13,10 +13,12 @@ from typing import Any
 CAPABILITIES = {
     "flat_ground": "standing and walking with the feet on flat ground",
     "multi_contact": "contacts of any limb on any surface (hands on walls, rails, rungs)",
+    "turning": "walking paths that turn (footholds and soles yawed along the path)",
 }
 NEEDS = {"force_torque_sensors": "6-axis force/torque sensors at the feet and hands"}
-FLAT_GROUND = frozenset({"flat_ground"})
-MULTI_CONTACT = frozenset({"flat_ground", "multi_contact"})
+FLAT_GROUND = frozenset({"flat_ground"})  # what a scenario asks for by default
+WALKING = frozenset({"flat_ground", "turning"})  # what a component can by default
+MULTI_CONTACT = WALKING | {"multi_contact"}
 
 
 @dataclass(frozen=True)
@@ -29,7 +31,7 @@ class ComponentSpec:
     factory: Callable[[float], Any]
     description: str
     pairs_with: tuple[str, ...] = ()
-    can: frozenset[str] = FLAT_GROUND
+    can: frozenset[str] = WALKING
     needs: frozenset[str] = frozenset()
 
 

@@ -34,15 +34,27 @@ def multi_contact_scenario(monkeypatch):
 def test_registered_controllers_declare_their_capabilities():
     assert CONTROLLERS["preview_control+centroidal_feedback"].can == MULTI_CONTACT
     assert CONTROLLERS["linear_mpc+centroidal_feedback"].can == MULTI_CONTACT
-    assert CONTROLLERS["preview_zmp+dcm"].can == {"flat_ground"}
-    assert CONTROLLERS["hold+posture"].can == {"flat_ground"}
+    assert CONTROLLERS["preview_zmp+dcm"].can == {"flat_ground", "turning"}
+    assert CONTROLLERS["hold+posture"].can == {"flat_ground", "turning"}
+    assert controller_spec("capturability_hierarchy").can == {"flat_ground"}  # world-axis boxes
     assert "force_torque_sensors" in CONTROLLERS["preview_zmp+dcm"].needs  # damping control
     assert not CONTROLLERS["hold+posture"].needs
     # a combination can only what both of its parts can
-    assert controller_spec("preview_control+dcm").can == {"flat_ground"}
+    assert controller_spec("preview_control+dcm").can == {"flat_ground", "turning"}
     for controller in CONTROLLERS.values():
         for name in ("stand", "stand_push", "walk", "walk_push", "walk_side"):
             assert refusal(controller, name) is None
+        turns = controller.name != "capturability_hierarchy"
+        assert (refusal(controller, "walk_turn") is None) == turns
+
+
+def test_the_hierarchy_refuses_a_turning_walk_with_the_reason():
+    """Its footstep rectangles, CoP boxes (eqs. 11-12) and swing sole are in world axes:
+    `walk_turn` is refused before the episode (an "n/a" row in a sweep)."""
+    assert refusal(controller_spec("capturability_hierarchy"), "walk_turn") == (
+        "capturability_hierarchy cannot do turning (walking paths that turn (footholds and "
+        "soles yawed along the path)), which walk_turn needs"
+    )
 
 
 def test_sweep_records_n_a_rows_and_runs_the_rest(

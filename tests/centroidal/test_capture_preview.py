@@ -111,6 +111,31 @@ def test_preview_reproduces_a_step_by_step_simulation(seed):
     np.testing.assert_allclose(states[:, 0] - states[:, 2] / OMEGA**2, cop, rtol=0, atol=1e-9)
 
 
+@pytest.mark.parametrize("first", [0.002, 0.037, 0.1])
+def test_a_shortened_first_interval_equals_the_simulation_with_it(first):
+    """The preview aligned with a step schedule (its first interval T_0 shorter): the states
+    equal interval-by-interval integration of eq. 10 with T_0 first, then T, and the CoP
+    velocities are the samples' differences over their own intervals."""
+    rng = np.random.default_rng(3)
+    pv = preview(HEIGHT, PERIOD, N, first_s=first)
+    assert pv.first_s == first
+    known, acc, cop = _random_preview_inputs(rng)
+    z = np.concatenate([[known[0] - acc / OMEGA**2], cop])
+    z_dot = np.diff(z) / np.array([first] + [PERIOD] * (N - 1))
+    state = np.array([known[0], known[1], acc])
+    expected = []
+    for k, u in enumerate(z_dot):
+        a, b = discretize(HEIGHT, first if k == 0 else PERIOD)
+        state = a @ state + b * u
+        expected.append(state)
+    states = pv.s_known @ known + pv.s_acc * acc + pv.s_cop @ cop
+    np.testing.assert_allclose(states, expected, rtol=0, atol=1e-9)
+    np.testing.assert_allclose(
+        pv.d_known @ known + pv.d_acc * acc + pv.d_cop @ cop, z_dot, rtol=0, atol=1e-9
+    )
+    np.testing.assert_allclose(states[:, 0] - states[:, 2] / OMEGA**2, cop, rtol=0, atol=1e-9)
+
+
 def test_preview_arrays_are_read_only_and_bad_arguments_raise():
     pv = preview(HEIGHT, PERIOD, 4)
     with pytest.raises(ValueError, match="read-only"):

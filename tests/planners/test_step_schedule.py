@@ -32,17 +32,42 @@ def test_phases_of_a_walk():
 
 
 def test_preview_samples_belong_to_the_foothold_that_carries_the_robot():
-    """From t = 1.35 (step 0's single support), samples at 1.45 ... 2.95: before the touchdown
-    at 1.7 the stance foot (0), then the landed foot through step 1's single support (1),
-    after step 1's touchdown at 2.5 the next footstep (2)."""
+    """From t = 1.35 (step 0's single support), samples on the walk's grid, 1.40 ... 2.90
+    (the first interval 0.05 s): up to the touchdown at 1.7 (included) the stance foot (0),
+    from the double support's end at 1.8 the landed foot through step 1's single support and
+    its touchdown at 2.5 (1), then the next footstep (2): the CoP, linear between samples,
+    changes feet only while both are down."""
     schedule = StepSchedule(0.7, 0.1)
     schedule.start(1.0, "right_foot")
+    assert schedule.first_interval(1.35, 0.1) == pytest.approx(0.05)
     supports = schedule.sample_supports(1.35, 0.1, 16)
-    expected = np.array([0] * 3 + [1] * 8 + [2] * 5)
+    expected = np.array([0] * 4 + [1] * 8 + [2] * 4)
     np.testing.assert_array_equal(supports, expected)
     # in the double support after a touchdown the landed foot is the current foothold
     supports = schedule.sample_supports(1.75, 0.1, 16)
-    np.testing.assert_array_equal(supports, [0] * 7 + [1] * 8 + [2])
+    np.testing.assert_array_equal(supports, [0] * 8 + [1] * 8)
+    # on the grid itself the first interval is whole; at the touchdown the landed foot is
+    # the current foothold
+    assert schedule.first_interval(1.7, 0.1) == pytest.approx(0.1)
+    np.testing.assert_array_equal(schedule.sample_supports(1.7, 0.1, 9), [0] * 8 + [1])
+
+
+def test_no_sample_leaves_the_stance_foot_while_the_other_is_in_the_air():
+    """At every control period of a walk (2 ms), two successive samples (the CoP is linear
+    between them) on different footholds are both within a double support."""
+    schedule = StepSchedule(0.7, 0.1)
+    schedule.start(1.03, "left_foot")
+    for t in np.arange(1.03, 3.0, 0.002):
+        first = schedule.first_interval(t, 0.1)
+        times = t + first + 0.1 * np.arange(16)
+        supports = schedule.sample_supports(t, 0.1, 16)
+        for k in range(1, 16):
+            if supports[k] != supports[k - 1]:
+                for sample in (times[k - 1], times[k]):
+                    into = (sample - 1.03) % 0.8
+                    # at or after a touchdown (0.7 into a step) and no later than the next
+                    # step's lift-off (0.8, i.e. 0.0 of the next)
+                    assert into > 0.7 - 1e-6 or into < 1e-6, (t, k, into)
 
 
 def test_a_walk_of_two_steps_ends_standing():
@@ -61,11 +86,12 @@ def test_bad_timing_is_refused():
 
 
 def test_before_a_walk_starts_the_preview_sees_its_steps():
-    """Standing at 0.95 with a walk from 1.0: samples before 1.0 on both feet (0), then the
-    first step's stance foot (0) until its touchdown at 1.7, then footstep 1, and 2 after 2.5."""
+    """Standing at 0.95 with a walk from 1.0: samples from 1.0 (the walk's grid) on the first
+    step's stance foot (0) until its touchdown at 1.7, then footstep 1 from 1.8 to step 1's
+    touchdown at 2.5."""
     schedule = StepSchedule(0.7, 0.1)
     schedule.start(1.0, "left_foot", steps=11)  # a finite walk too (a gait command's)
     assert schedule.starting(0.95)
     assert schedule.phase(0.95).step == -1
     supports = schedule.sample_supports(0.95, 0.1, 16)
-    np.testing.assert_array_equal(supports, [0] * 7 + [1] * 8 + [2])
+    np.testing.assert_array_equal(supports, [0] * 8 + [1] * 8)
