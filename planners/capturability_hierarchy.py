@@ -100,7 +100,8 @@ SOLE_MARGIN_M = 0.01  # [m] eqs. 7, 11 keep the CoP this far inside the sole (ou
 hierarchy's cascade fails at the end of the MuJoCo `walk` (18 failures, then an error at
 10.25 s; 2026-12-01); with the preview aligned to the steps (`StepSchedule.first_interval`)
 `reach_push` passes at 0 and 1 cm in both simulators and falls at 1.5 cm (4.56 s) and 2 cm
-(3.85 s, MuJoCo), 2 cm being the margin until 2026-12-01 (docs/sherikov.md)."""
+(3.85 s, MuJoCo; these two measured with an audit's patch of the same rule), 2 cm being the
+margin until 2026-12-01 (docs/sherikov.md)."""
 MIN_NORMAL_FORCE = 0.05  # a contact sole's least normal force, in units of m g (ours)
 REACH_FIRST_STEP_S, REACH_FIRST_SWING = 0.8, "left_foot"
 """A reach's walk starts 0.8 s after the first hand target (s, times sqrt(scale)), left foot
