@@ -103,14 +103,14 @@ class Preview:
     d_known: np.ndarray
     d_acc: np.ndarray
     d_cop: np.ndarray
-    first_s: float = 0.0
+    first_s: float
 
 
 def preview(height_m: float, period_s: float, n: int, first_s: float | None = None) -> Preview:
     """Build the `Preview` of eq. 10 over `n` >= 1 intervals at CoM height `height_m` [m]:
     the first of `first_s` [s] (default `period_s`), the others of `period_s` [s] (the paper:
     N = 16 intervals of 0.1 s, two steps of 0.8 s, Sec. VII; the first shortened to the step
-    schedule's grid as the authors' humoto does, `StepSchedule.sample_times`)."""
+    schedule's grid as the authors' humoto does, `StepSchedule.first_interval`)."""
     if isinstance(n, bool) or int(n) != n or n < 1:
         raise ValueError(f"n must be a positive integer, got {n}")
     n = int(n)
