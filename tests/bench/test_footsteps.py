@@ -68,6 +68,35 @@ def test_chatter_is_one_touchdown_and_the_first_contact_counts():
     assert steps["swing_length_m"].tolist() == pytest.approx([0.125, 0.25])
 
 
+def test_a_bounce_after_a_touchdown_is_no_step_but_a_step_in_place_is():
+    """An early touchdown that bounces (off for 0.06 s, landing 5 mm from where it landed: the
+    five-mass walks' sagging swing foot) is one step whose touchdown is the first; a lift of
+    0.06 s that lands 3 cm away, and a step in place of 0.3 s, are steps."""
+    recorder = _recorder(
+        {
+            "left_foot": [(0.0, 0.1)],
+            "right_foot": [(0.0, -0.1), (0.2, -0.1), (0.205, -0.1), (0.235, -0.1), (0.235, -0.1)],
+        }
+    )
+    sequence = [
+        (0.0, _flags(True, True)),
+        (1.0, _flags(True, False)),  # right lifts off
+        (1.40, _flags(True, True)),  # lands at x = 0.2 ...
+        (1.45, _flags(True, False)),  # ... bounces for 0.06 s ...
+        (1.51, _flags(True, True)),  # ... and lands 5 mm on: no step
+        (2.0, _flags(True, False)),
+        (2.06, _flags(True, True)),  # 0.06 s off, 3 cm on: a step
+        (3.0, _flags(True, False)),
+        (3.3, _flags(True, True)),  # 0.3 s off, in place: a step
+    ]
+    for t, flags in sequence:
+        recorder.observe(t, flags)
+    steps = recorder.table()
+    assert steps["touchdown_time_s"].tolist() == [1.40, 2.06, 3.3]
+    assert steps["liftoff_time_s"].tolist() == [1.0, 2.0, 3.0]
+    assert steps["swing_length_m"].tolist() == pytest.approx([0.2, 0.035, 0.0])
+
+
 def test_a_foot_that_lands_after_the_first_period_stands_where_it_landed():
     recorder = _recorder({"left_foot": [(0.0, 0.1), (0.3, 0.1)], "right_foot": []})
     recorder.observe(0.0, _flags(False, False))
