@@ -12,6 +12,14 @@ It is the whole-body IK (`wholebody.ik`) with the tasks changed to the generator
 - the trunk's yaw at R_I's yaw (the generator turns the trunk to the set inertia yaw psi_I);
   the trunk's roll and pitch are free, so that the inertia tilt is realised by the upper body
   against the legs, as the generator's dumbbell tilt;
+- the arms held to the trunk (each free arm's own joints at their nominal angles,
+  `ARM_POSTURE_WEIGHT`): the generator places the trunk "with its mass pointing towards m_u"
+  with the arms attached (Sec. 2). Until 2026-12-01 only the weak posture task held them, and
+  the IK realised a lateral tilt by swinging the arms sideways (with both knees straight,
+  shoulder rolls 9-18 rad per rad of tilt and the base roll 0.05; in single support 5.9 and
+  2.2); held, the base rolls 3.1 rad per rad. With both knees held straight in a double
+  support the trunk cannot roll far (the hips' heights are fixed), and a lateral tilt is then
+  realised only in part (a third, measured): the generator's "viable dumbbell tilt";
 - joint positions to the servos, no feed-forward torque (the paper's robot is position
   controlled, Sec. 4); or, as a variant (`feedforward=True`, `five_mass_pose_feedforward`),
   with the gravity torques of the limbs that carry no contact (`FreeLimbGravity`): the
@@ -51,6 +59,7 @@ from wholebody.ik import IKWeights, WholeBodyIK
 from wholebody.ik_only import IkLayer
 
 INERTIA_AXIS_WEIGHT = 1e2  # as the base orientation task's (errors in rad)
+ARM_POSTURE_WEIGHT = 1.0  # the free arms held to the trunk: 100x the posture task's
 KNEE_MARGIN_RAD = 0.1  # a straight knee less this margin (5.7 deg): away from the singularity
 KNEE_WEIGHT = 1e3  # as the CoM task's
 KNEE_TIME_CONSTANT_S = 0.3  # [s] how fast a knee straightens (not in one period: it jumps)
@@ -129,6 +138,21 @@ def knee_indices(model: RobotModel) -> dict[str, int]:
     return result
 
 
+def arm_joints(model: RobotModel) -> dict[int, np.ndarray]:
+    """Per hand limb (by limb index), the indices (in joint order) of the joints on its chain
+    (`limb_chains`) and on no other limb's: the arm's own joints, without a waist that carries
+    both arms (JVRC-1's three waist joints are on both hands' chains; the humanoid has none)."""
+    robot = model.robot
+    chains = limb_chains(model)
+    result = {}
+    for k, limb in enumerate(robot.limbs):
+        if not limb.name.endswith("hand"):
+            continue
+        shared = set().union(*(set(c.tolist()) for i, c in enumerate(chains) if i != k))
+        result[k] = np.array([j for j in chains[k].tolist() if j not in shared], dtype=int)
+    return result
+
+
 class FiveMassIK(WholeBodyIK):
     """The IK with the inertia-axis task and the base's yaw only (see the module)."""
 
@@ -139,7 +163,9 @@ class FiveMassIK(WholeBodyIK):
         weights: IKWeights | None = None,
         straight_leg: bool = True,
     ) -> None:
-        super().__init__(model, dt, weights, extra_rows=3 + 2)
+        self.arm_joints = arm_joints(model)
+        n_arm = sum(len(joints) for joints in self.arm_joints.values())
+        super().__init__(model, dt, weights, extra_rows=3 + 2 + n_arm)
         self.five = FiveMassModel(model)
         self.base_orientation_weights[:2] = 0.0  # roll and pitch: free
         self.straight_leg = straight_leg
@@ -151,6 +177,7 @@ class FiveMassIK(WholeBodyIK):
     def _extra_rows(self, q: np.ndarray, targets: WholeBodyTargets, n: int) -> int:
         if self.straight_leg:
             n = self._straight_legs(q, targets, n)
+        n = self._held_arms(q, targets, n)
         axes_target = targets.inertia_axes_world
         if axes_target is None:
             return n
@@ -161,6 +188,25 @@ class FiveMassIK(WholeBodyIK):
         self._error[n : n + 3] = axes_target[:, 2] - five.axes_world[:, 2]
         self._weight[n : n + 3] = INERTIA_AXIS_WEIGHT
         return n + 3
+
+    def _held_arms(self, q: np.ndarray, targets: WholeBodyTargets, n: int) -> int:
+        """The generator's upper-body dumbbell (Sec. 2: the trunk "placed with its mass
+        pointing towards m_u", the arms attached to it): every joint of an untracked arm's own
+        (`arm_joints`) held at its nominal angle with `ARM_POSTURE_WEIGHT`, so that the
+        inertia tilt is realised by the trunk against the legs and not by swinging the arms
+        (with the plain posture task a lateral tilt moved both shoulder rolls by 9-18 rad per
+        rad of tilt with both knees straight)."""
+        tracked = targets.limb_tracked
+        for k, joints in self.arm_joints.items():
+            if tracked is not None and tracked[k]:
+                continue
+            for j in joints:
+                self._jacobian[n] = 0.0
+                self._jacobian[n, 6 + j] = 1.0
+                self._error[n] = self.nominal[j] - q[7 + j]
+                self._weight[n] = ARM_POSTURE_WEIGHT
+                n += 1
+        return n
 
     def _straight_legs(self, q: np.ndarray, targets: WholeBodyTargets, n: int) -> int:
         """The straight-support-leg constraint: each contact leg's knee at its lower limit

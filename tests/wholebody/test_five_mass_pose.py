@@ -10,7 +10,14 @@ import pytest
 from robots.humanoid import humanoid
 from robots.jvrc1 import jvrc1
 from robots.model import RobotModel
-from wholebody.five_mass_pose import FreeLimbGravity, knee_indices, limb_chains
+from robots.types import WholeBodyTargets
+from wholebody.five_mass_pose import (
+    FiveMassIK,
+    FreeLimbGravity,
+    arm_joints,
+    knee_indices,
+    limb_chains,
+)
 
 GRAVITY = np.array([0.0, 0.0, -9.81])
 
@@ -80,3 +87,77 @@ def test_the_chains_run_from_each_limb_to_the_base():
     arm += ["L_ELBOW_P", "L_ELBOW_Y", "L_WRIST_R", "L_WRIST_Y"]
     assert [names[j] for j in chains["left_hand"]] == arm[::-1]
     assert names[knee_indices(jvrc)["right_foot"]] == "R_KNEE"
+
+
+def test_an_arms_own_joints_leave_out_the_waist_both_arms_share():
+    """JVRC-1's three waist joints are on both hands' chains, so neither arm holds them; the
+    humanoid, without a waist, holds its arms' whole chains."""
+    jvrc = RobotModel(jvrc1())
+    names = jvrc.robot.joint_names
+    own = {jvrc.robot.limb_names[k]: [names[j] for j in v] for k, v in arm_joints(jvrc).items()}
+    assert sorted(own) == ["left_hand", "right_hand"]
+    assert not any(name.startswith("WAIST") for name in own["left_hand"] + own["right_hand"])
+    assert len(own["left_hand"]) == 7
+    model = RobotModel(humanoid())
+    chains = limb_chains(model)
+    for k, joints in arm_joints(model).items():
+        np.testing.assert_array_equal(joints, chains[k])
+
+
+def _tilted_pose(straight_leg: bool, single_support: bool, tilt_axis: np.ndarray) -> tuple:
+    """The five-mass IK from the standing pose, the CoM and the feet held, its inertia axes
+    set 0.02 rad about `tilt_axis` from the standing ones, 200 periods: (base rotation
+    relative to the untilted solution as a rotation vector [rad], the untilted and tilted
+    joint angles [rad])."""
+    model = RobotModel(humanoid())
+    ik = FiveMassIK(model, 0.002, straight_leg=straight_leg)
+    ik.reset(model.standing_state())
+    q0 = ik.q.copy()
+    pin.framesForwardKinematics(model.model, ik.data, q0)
+    limbs = model.robot.limb_names
+    position = np.array([ik.data.oMf[f].translation for f in ik.limb_frames])
+    orientation = np.array(
+        [pin.Quaternion(ik.data.oMf[f].rotation).coeffs()[[3, 0, 1, 2]] for f in ik.limb_frames]
+    )
+    com = pin.centerOfMass(model.model, ik.data, q0).copy()
+    axes = ik.five.evaluate(q0).axes_world.copy()
+    feet = np.array([name.endswith("foot") for name in limbs])
+    contact = np.array([name == "left_foot" for name in limbs]) if single_support else feet
+
+    def solve(rotation: np.ndarray) -> np.ndarray:
+        ik.q = q0.copy()
+        targets = WholeBodyTargets(
+            com, np.array([1.0, 0, 0, 0]), position, orientation, contact, com, com,
+            limb_tracked=feet, inertia_axes_world=rotation @ axes,
+        )  # fmt: skip
+        for _ in range(200):
+            ik.solve(targets)
+        return ik.q.copy()
+
+    untilted = solve(np.eye(3))
+    tilted = solve(pin.exp3(0.02 * tilt_axis))
+    base = pin.log3(
+        pin.Quaternion(tilted[6], *tilted[3:6]).matrix()
+        @ pin.Quaternion(untilted[6], *untilted[3:6]).matrix().T
+    )
+    return base, untilted[7:], tilted[7:], arm_joints(model)
+
+
+@pytest.mark.parametrize(
+    ("straight_leg", "single_support"),
+    [(False, False), (True, True)],
+    ids=["bent-double-support", "straight-single-support"],
+)
+@pytest.mark.parametrize("axis", [0, 1], ids=["lateral", "sagittal"])
+def test_the_trunk_realises_the_inertia_tilt_and_the_arms_stay(straight_leg, single_support, axis):
+    """Sec. 2: the trunk is placed "with its mass pointing towards m_u", the arms attached to
+    it. A set tilt of the principal axis about x (lateral) or y (sagittal) turns the base the
+    same way by more than twice the tilt (the trunk's share of the system inertia is about a
+    third), and no arm joint moves by a fifth of the tilt. (With the arms held by the plain
+    posture task only, a lateral tilt moved a shoulder roll 1.4 rad per rad with bent knees
+    and 5.9 rad per rad in single support on a straight leg.)"""
+    tilt_axis = np.eye(3)[axis]
+    base, untilted, tilted, arms = _tilted_pose(straight_leg, single_support, tilt_axis)
+    assert base[axis] / 0.02 > 2.0
+    own = np.concatenate(list(arms.values()))
+    assert np.abs(tilted[own] - untilted[own]).max() < 0.2 * 0.02
