@@ -5,14 +5,15 @@ sole's pose at touchdown from the simulator's ground truth.
 A foot's contact flag chatters for a few milliseconds when it lands (measured: 2-8 ms of
 on/off at each touchdown in both simulators), so contact intervals are debounced: a gap
 shorter than `MIN_GAP_S` does not end a contact, and the touchdown is the first instant of the
-merged contact. A foot that lands early also bounces (measured on the five-mass walks: a lift
-of 4-7 mm for about 0.06 s after nearly every touchdown of a sagging swing foot, each counted
-as a step until 2026-12-01): a loss of contact shorter than `BOUNCE_MAX_S` after which the
-foot lands again within `BOUNCE_RADIUS_M` of where it had landed is a bounce, not a step, and
-the touchdown stays the first. A step of any gait here lasts longer (the shortest swing, the
-five-mass gait's at eq. 16's 2 f_g, is 0.25 s), and a step in place lasts longer too. The
-runner calls `FootstepRecorder.observe` every period (a comparison of
-the flags with the last ones; work only when they change) and `table` once at the end.
+merged contact. A foot that lands early also bounces (measured on the bent-knee five-mass
+walks: a lift of 4-7 mm for about 0.06 s after most touchdowns of a sagging swing foot, each
+counted as a step until 2026-12-01; no other controller's `walk` bounces): a loss of
+contact shorter than `BOUNCE_MAX_S` after which the foot lands again within `BOUNCE_RADIUS_M`
+of where it had landed is a bounce, not a step, and the touchdown stays the first. A step of
+any gait here lasts longer (the shortest swing, the five-mass gait's at eq. 16's 2 f_g, is
+0.25 s), and a step in place lasts longer too. The runner calls `FootstepRecorder.observe`
+every period (a comparison of the flags with the last ones; work only when they change) and
+`table` once at the end.
 """
 
 from __future__ import annotations

@@ -13,13 +13,16 @@ It is the whole-body IK (`wholebody.ik`) with the tasks changed to the generator
   the trunk's roll and pitch are free, so that the inertia tilt is realised by the upper body
   against the legs, as the generator's dumbbell tilt;
 - the arms held to the trunk (each free arm's own joints at their nominal angles,
-  `ARM_POSTURE_WEIGHT`): the generator places the trunk "with its mass pointing towards m_u"
-  with the arms attached (Sec. 2). Until 2026-12-01 only the weak posture task held them, and
-  the IK realised a lateral tilt by swinging the arms sideways (with both knees straight,
-  shoulder rolls 9-18 rad per rad of tilt and the base roll 0.05; in single support 5.9 and
-  2.2); held, the base rolls 3.1 rad per rad. With both knees held straight in a double
-  support the trunk cannot roll far (the hips' heights are fixed), and a lateral tilt is then
-  realised only in part (a third, measured): the generator's "viable dumbbell tilt";
+  `ARM_POSTURE_WEIGHT`; ours): the generator places the trunk "with its mass pointing towards
+  m_u" (Sec. 2), so the tilt is the trunk's. Until 2026-12-01 only the weak posture task held
+  the arms, and the IK realised a lateral tilt by swinging them sideways (with both knees
+  straight, shoulder rolls 9-18 rad per rad of tilt and the base roll 0.05; in single support
+  5.9 and 2.2; with bent knees 1.4 and 2.9); held, the base rolls 3.1 rad per rad with bent
+  knees or in single support. With both knees held straight in a double support the trunk
+  cannot roll far (the hips' heights are fixed): the base rolls 0.46 rad per rad, an arm
+  joint still moves 2.1, and the tilt is realised by a third. The paper's generator moves its
+  arms by its own rules (their triangle parameters, the m_u dumbbell's yaw psi_u, the CoM
+  height under the straight-leg constraint); this one holds them;
 - joint positions to the servos, no feed-forward torque (the paper's robot is position
   controlled, Sec. 4); or, as a variant (`feedforward=True`, `five_mass_pose_feedforward`),
   with the gravity torques of the limbs that carry no contact (`FreeLimbGravity`): the
@@ -163,16 +166,17 @@ class FiveMassIK(WholeBodyIK):
         weights: IKWeights | None = None,
         straight_leg: bool = True,
     ) -> None:
+        knees = knee_indices(model)
+        limbs = model.robot.limb_names
+        self.knees = [(limbs.index(name), index) for name, index in knees.items()]
         self.arm_joints = arm_joints(model)
         n_arm = sum(len(joints) for joints in self.arm_joints.values())
-        super().__init__(model, dt, weights, extra_rows=3 + 2 + n_arm)
+        # rows: the inertia axis (3), a knee per leg, an arm's own joints
+        super().__init__(model, dt, weights, extra_rows=3 + len(self.knees) + n_arm)
         self.five = FiveMassModel(model)
         self.base_orientation_weights[:2] = 0.0  # roll and pitch: free
         self.straight_leg = straight_leg
         self.knee_rate = min(1.0, dt / KNEE_TIME_CONSTANT_S)
-        knees = knee_indices(model)
-        limbs = model.robot.limb_names
-        self.knees = [(limbs.index(name), index) for name, index in knees.items()]
 
     def _extra_rows(self, q: np.ndarray, targets: WholeBodyTargets, n: int) -> int:
         if self.straight_leg:
@@ -190,15 +194,20 @@ class FiveMassIK(WholeBodyIK):
         return n + 3
 
     def _held_arms(self, q: np.ndarray, targets: WholeBodyTargets, n: int) -> int:
-        """The generator's upper-body dumbbell (Sec. 2: the trunk "placed with its mass
-        pointing towards m_u", the arms attached to it): every joint of an untracked arm's own
-        (`arm_joints`) held at its nominal angle with `ARM_POSTURE_WEIGHT`, so that the
-        inertia tilt is realised by the trunk against the legs and not by swinging the arms
-        (with the plain posture task a lateral tilt moved both shoulder rolls by 9-18 rad per
-        rad of tilt with both knees straight)."""
+        """Ours, after Sec. 2's trunk "placed with its mass pointing towards m_u": every joint
+        of an untracked arm's own (`arm_joints`) held at its nominal angle with
+        `ARM_POSTURE_WEIGHT`, so that the inertia tilt is realised by the trunk against the
+        legs and not by swinging the arms (with the plain posture task a lateral tilt moved a
+        shoulder roll 1.4 rad per rad of tilt with bent knees, 5.9 in single support on a
+        straight leg). The paper's generator does move its arms (their own triangle
+        parameters, the m_u dumbbell's yaw psi_u, the CoM height under the straight-leg
+        constraint); this one holds them. With both knees straight in a double support the
+        trunk can hardly roll and the arms still give (2.1 rad per rad, from 18). A tracked
+        arm (or every limb, `limb_tracked` None, as `WholeBodyIK.solve` reads it) follows its
+        target instead."""
         tracked = targets.limb_tracked
         for k, joints in self.arm_joints.items():
-            if tracked is not None and tracked[k]:
+            if tracked is None or tracked[k]:
                 continue
             for j in joints:
                 self._jacobian[n] = 0.0

@@ -45,7 +45,7 @@ def test_it_walks_the_walk(walks, sim):
     assert len(landed) == 18
     assert summary["distance_walked_m"] == pytest.approx(1.125, abs=0.1)
     # its swing leg sags under the position servos: the feet land early on average (measured
-    # -24 / -24 ms in MuJoCo / PyBullet over every touchdown, scuffs included, 2026-11-27)
+    # -30 / -28 ms in MuJoCo / PyBullet over its 18 touchdowns, 2026-12-01)
     assert summary["touchdown_time_error_mean_s"] < 0.0
 
 

@@ -70,8 +70,9 @@ def test_chatter_is_one_touchdown_and_the_first_contact_counts():
 
 def test_a_bounce_after_a_touchdown_is_no_step_but_a_step_in_place_is():
     """An early touchdown that bounces (off for 0.06 s, landing 5 mm from where it landed: the
-    five-mass walks' sagging swing foot) is one step whose touchdown is the first; a lift of
-    0.06 s that lands 3 cm away, and a step in place of 0.3 s, are steps."""
+    bent-knee five-mass walks' sagging swing foot) is one step whose touchdown is the first; a
+    lift of 0.06 s that lands 3.5 cm from the last touchdown, and a step in place of 0.3 s,
+    are steps."""
     recorder = _recorder(
         {
             "left_foot": [(0.0, 0.1)],
@@ -95,6 +96,38 @@ def test_a_bounce_after_a_touchdown_is_no_step_but_a_step_in_place_is():
     assert steps["touchdown_time_s"].tolist() == [1.40, 2.06, 3.3]
     assert steps["liftoff_time_s"].tolist() == [1.0, 2.0, 3.0]
     assert steps["swing_length_m"].tolist() == pytest.approx([0.2, 0.035, 0.0])
+
+
+def test_a_bounce_of_a_standing_foot_or_inside_chatter_is_no_step():
+    """A standing foot that lifts for 0.05 s and lands 2 mm from where it stood takes no step;
+    a swing that lands, chatters for 4 ms, bounces for 0.07 s and lands 4 mm on is one step
+    (touchdown the first contact); a loss of exactly `BOUNCE_MAX_S` in place is a step."""
+    recorder = _recorder(
+        {
+            "left_foot": [(0.0, 0.1), (0.002, 0.1), (0.3, 0.1), (0.301, 0.1), (0.304, 0.1)],
+            "right_foot": [(0.0, -0.1), (0.0, -0.1)],
+        }
+    )
+    sequence = [
+        (0.0, _flags(True, True)),
+        (0.5, _flags(False, True)),  # the standing left foot lifts ...
+        (0.55, _flags(True, True)),  # ... and lands 2 mm on: no step
+        (1.0, _flags(False, True)),  # a swing of the left foot
+        (1.5, _flags(True, True)),  # lands at x = 0.3, chatters ...
+        (1.502, _flags(False, True)),
+        (1.506, _flags(True, True)),
+        (1.55, _flags(False, True)),  # ... bounces 0.07 s, lands 4 mm on
+        (1.62, _flags(True, True)),
+        (2.0, _flags(True, False)),  # the right foot off for exactly 0.1 s, in place
+        (2.1, _flags(True, True)),
+    ]
+    for t, flags in sequence:
+        recorder.observe(t, flags)
+    steps = recorder.table()
+    assert steps["limb"].tolist() == ["left_foot", "right_foot"]
+    assert steps["touchdown_time_s"].tolist() == [1.5, 2.1]
+    assert steps["x_m"].tolist() == [0.3, 0.0]
+    assert steps["swing_length_m"].tolist() == pytest.approx([0.3, 0.0])
 
 
 def test_a_foot_that_lands_after_the_first_period_stands_where_it_landed():

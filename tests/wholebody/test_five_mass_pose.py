@@ -144,20 +144,37 @@ def _tilted_pose(straight_leg: bool, single_support: bool, tilt_axis: np.ndarray
 
 
 @pytest.mark.parametrize(
-    ("straight_leg", "single_support"),
-    [(False, False), (True, True)],
-    ids=["bent-double-support", "straight-single-support"],
+    ("straight_leg", "single_support", "axis", "base_least", "arm_most"),
+    [
+        (False, False, 0, 3.0, 0.2),
+        (False, False, 1, 2.6, 0.2),
+        (True, True, 0, 3.0, 0.2),
+        (True, True, 1, 2.6, 0.2),
+        (True, False, 0, 0.3, 3.0),
+    ],
+    ids=[
+        "bent-double-support-lateral",
+        "bent-double-support-sagittal",
+        "straight-single-support-lateral",
+        "straight-single-support-sagittal",
+        "straight-double-support-lateral",
+    ],
 )
-@pytest.mark.parametrize("axis", [0, 1], ids=["lateral", "sagittal"])
-def test_the_trunk_realises_the_inertia_tilt_and_the_arms_stay(straight_leg, single_support, axis):
-    """Sec. 2: the trunk is placed "with its mass pointing towards m_u", the arms attached to
-    it. A set tilt of the principal axis about x (lateral) or y (sagittal) turns the base the
-    same way by more than twice the tilt (the trunk's share of the system inertia is about a
-    third), and no arm joint moves by a fifth of the tilt. (With the arms held by the plain
-    posture task only, a lateral tilt moved a shoulder roll 1.4 rad per rad with bent knees
-    and 5.9 rad per rad in single support on a straight leg.)"""
+def test_the_trunk_realises_the_inertia_tilt_and_the_arms_stay(
+    straight_leg, single_support, axis, base_least, arm_most
+):
+    """Sec. 2: the trunk is placed "with its mass pointing towards m_u". A set tilt of the
+    principal axis about x (lateral) or y (sagittal) turns the base the same way by
+    `base_least` times the tilt or more (measured 3.15 / 3.12 lateral, 2.64 / 2.63 sagittal;
+    the trunk's share of the system inertia is about a third), and no arm joint moves by
+    `arm_most` times the tilt (measured 0.09 at most). With both knees held straight in a
+    double support the trunk can hardly roll (the hips' heights are fixed): the base rolls
+    0.46 rad per rad and an arm joint still moves 2.1. With the arms held by the plain posture
+    task only (before 2026-12-01) every case fails: a shoulder roll moved 1.4, 5.9 and 18 rad
+    per rad laterally (bent, single support, straight double support; the base 2.88, 2.20,
+    0.05), a shoulder pitch 0.4 sagittally (the base 2.59, 2.54)."""
     tilt_axis = np.eye(3)[axis]
     base, untilted, tilted, arms = _tilted_pose(straight_leg, single_support, tilt_axis)
-    assert base[axis] / 0.02 > 2.0
+    assert base[axis] / 0.02 > base_least
     own = np.concatenate(list(arms.values()))
-    assert np.abs(tilted[own] - untilted[own]).max() < 0.2 * 0.02
+    assert np.abs(tilted[own] - untilted[own]).max() < arm_most * 0.02
