@@ -144,7 +144,8 @@ def knee_indices(model: RobotModel) -> dict[str, int]:
 def arm_joints(model: RobotModel) -> dict[int, np.ndarray]:
     """Per hand limb (by limb index), the indices (in joint order) of the joints on its chain
     (`limb_chains`) and on no other limb's: the arm's own joints, without a waist that carries
-    both arms (JVRC-1's three waist joints are on both hands' chains; the humanoid has none)."""
+    both arms (JVRC-1's three waist joints are on both hands' chains; the humanoid has none).
+    The same rule as the five-mass groups' (`robots.five_mass.chain_roots`), as joint indices."""
     robot = model.robot
     chains = limb_chains(model)
     result = {}
