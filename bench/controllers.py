@@ -106,11 +106,16 @@ DIRECT_CENTROIDAL_ROWS = (
         "direct_centroidal_no_inertia",
         "five_mass_pose_bent_feedforward",
     ),
+    # ours: every component, the inertia controller's set tilt through a first-order lag, with
+    # which it stands (`stabilizers.direct_centroidal.tilt_lag_time_constant`)
+    ("lagged_inertia", "five_mass_gait", "direct_centroidal_lagged_inertia", "five_mass_pose"),
 )
 OURS = {
     "bent_no_inertia": "ours: bent knees, no inertia control",
     "bent_no_inertia_feedforward": "ours: bent knees, no inertia control, the free limbs' "
     "gravity feed-forward",
+    "lagged_inertia": "ours: every component, the inertia controller's set tilt through a "
+    "first-order lag",
 }
 """The rows of `DIRECT_CENTROIDAL_ROWS` that are not the paper's, and how they differ."""
 

@@ -34,6 +34,17 @@ method falls after 0.18 s with the CMP and 0.6 s with the ZMP (0.66 / 0.39 s MuJ
 with the straight-leg layer); it stood 3 s only with the bent-knee layer and the inertia loop's
 gains at 0.1 K_zmp and 0.3 K_com (issue 17's note).
 
+The lagged tilt (`tilt_lag_time_constant`, ours, only in the variant
+`direct_centroidal_lagged_inertia`): the set tilt reaches R_c through a first-order lag. Eq.
+14's ZMP term closes a loop through the flywheel's own reaction: a tilt accelerated by theta''
+moves the ZMP by -I theta'' / (m g) (the flywheel model, eq. 13), so with the tilt realised at
+once the loop gain of the ZMP term is K_zmp s / omega^2, which grows without bound; per 2 ms
+period K_zmp / (omega^2 dt), 72 here, and the full method falls standing. Through the lag
+1 / (1 + tau s) it tends to K_zmp / (omega^2 tau) instead, below 1 for tau > K_zmp / omega^2
+(0.15 s on our humanoid at Choi's gains). The paper's robot smooths the flywheel's
+acceleration with its servos and its 100 Hz loop (it gives no figure); ours realise a tilt
+within one period (docs/ficht-behnke.md).
+
 A state without a ZMP (an estimator with force sensors and no loaded limb gives NaN) drops the
 ZMP term for that period. The ablation modes of the paper's Table 1 are `FeedbackOptions`.
 """
@@ -77,6 +88,17 @@ class FeedbackOptions:
     leaky: bool = True
     extended: bool = True
     inertia: bool = True
+    tilt_lag: bool = False
+
+
+def tilt_lag_time_constant(omega: float, k_zmp: float) -> float:
+    """tau [s] of the lagged tilt (ours, see the module): twice the bound K_zmp / omega^2 [1/s
+    over 1/s^2] above which eq. 14's ZMP term has a loop gain below 1 at every frequency, so a
+    gain of 1/2 at high frequencies; omega = sqrt(g / h) [1/s], K_zmp [1/s]. 0.29 s on our
+    humanoid at Choi's gains (K_zmp = omega / 2: tau = 1 / omega). Measured (MuJoCo / PyBullet,
+    `stand`, 10 s): a lag of 0.08 s falls (7.1 / 1.9 s), 0.10 s stands / falls (4.0 s), 0.12 s
+    and more stand in both."""
+    return 2.0 * k_zmp / omega**2
 
 
 class DirectCentroidalStabilizer:
@@ -95,6 +117,7 @@ class DirectCentroidalStabilizer:
         self.moments = five.moments  # I_PA in the standing pose (Sec. 3.1: kept constant)
         self.x_i = np.zeros(2)
         self.x_aug_i = np.zeros(2)
+        self.theta_lagged = np.zeros(2)  # [rad] the set tilt through the lag (tilt_lag)
 
     def stabilize(self, t: float, plan: CentroidalPlan, state: RobotState) -> WholeBodyTargets:
         start = time.perf_counter_ns()
@@ -142,6 +165,7 @@ class DirectCentroidalStabilizer:
                         height,
                         k_com,
                         k_zmp,
+                        omega,
                     )
                 axes = axes_set
         in_contact = np.array([name in plan.contact_limbs for name in self.limb_names])
@@ -159,11 +183,22 @@ class DirectCentroidalStabilizer:
         )
 
     def _inertia(
-        self, x_set, p_ref, x, p, theta_f, theta_f_acceleration, axes_ref, height, k_com, k_zmp
+        self,
+        x_set,
+        p_ref,
+        x,
+        p,
+        theta_f,
+        theta_f_acceleration,
+        axes_ref,
+        height,
+        k_com,
+        k_zmp,
+        omega,
     ) -> np.ndarray:
         """Eqs. 12-15: R_I^set = R_c R_I^ref; theta_f (2,) [rad] the flywheel angle (the
         estimator's, less the reference's neutral lean), theta_f_acceleration (2,) [rad/s^2]
-        (None: taken as 0)."""
+        (None: taken as 0); with `tilt_lag`, R_c from the set tilt through the lag."""
         # moments about the axes the tilts turn about: a tilt toward +x turns about y
         inertia = np.array([self.moments[1], self.moments[0]])
         scale = inertia / (self.mass * height)
@@ -172,6 +207,10 @@ class DirectCentroidalStabilizer:
         control = -k_zmp * (p_ref - p_aug) + k_com * (x_set - x_aug)  # eq. 14
         self.x_aug_i = control * self.dt + (1.0 - self.alpha) * self.x_aug_i
         theta_set = self.x_aug_i / scale  # eq. 15
+        if self.options.tilt_lag:
+            tau = tilt_lag_time_constant(omega, k_zmp)
+            self.theta_lagged += -math.expm1(-self.dt / tau) * (theta_set - self.theta_lagged)
+            theta_set = self.theta_lagged
         rotation = tilt_rotation(axis_from_angles(theta_set[0], theta_set[1]))
         return rotation @ axes_ref  # eq. 12
 
@@ -218,6 +257,11 @@ VARIANTS = {
     "direct_centroidal_no_inertia": (
         FeedbackOptions(inertia=False),
         "direct_centroidal without the inertia controller (Table 1 ablation)",
+    ),
+    "direct_centroidal_lagged_inertia": (
+        FeedbackOptions(tilt_lag=True),
+        "direct_centroidal with the inertia controller's set tilt through a first-order lag "
+        "(ours: tilt_lag_time_constant)",
     ),
     "direct_centroidal_leaky": (
         FeedbackOptions(extended=False, inertia=False),
