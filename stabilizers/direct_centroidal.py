@@ -37,13 +37,16 @@ gains at 0.1 K_zmp and 0.3 K_com (issue 17's note).
 The lagged tilt (`tilt_lag_time_constant`, ours, only in the variant
 `direct_centroidal_lagged_inertia`): the set tilt reaches R_c through a first-order lag. Eq.
 14's ZMP term closes a loop through the flywheel's own reaction: a tilt accelerated by theta''
-moves the ZMP by -I theta'' / (m g) (the flywheel model, eq. 13), so with the tilt realised at
-once the loop gain of the ZMP term is K_zmp s / omega^2, which grows without bound; per 2 ms
-period K_zmp / (omega^2 dt), 72 here, and the full method falls standing. Through the lag
-1 / (1 + tau s) it tends to K_zmp / (omega^2 tau) instead, below 1 for tau > K_zmp / omega^2
-(0.15 s on our humanoid at Choi's gains). The paper's robot smooths the flywheel's
-acceleration with its servos and its 100 Hz loop (it gives no figure); ours realise a tilt
-within one period (docs/ficht-behnke.md).
+moves the ZMP by -I theta'' / (m g) (eq. 13), so this path's loop gain is K_zmp s / omega^2.
+Without delay that loop is stable, but its gain grows without bound with frequency, and the
+one-period delay of a digital loop and the servos supply the phase near the sampling rate
+(with each set tilt realised by the next period the dominant root is about -(1 + K_zmp /
+(omega^2 dt)), -73 here). Through the lag 1 / (1 + tau s) the path's gain tends to K_zmp /
+(omega^2 tau) instead and stays below 1 at every frequency for tau > K_zmp / omega^2 (0.15 s
+on our humanoid at Choi's gains), whatever the delay. The lag does not bound the ZMP term's
+other path, p~'s I theta / (m h), which the K_com term holds at low frequencies. Our reading
+(the paper says nothing of it): its robot's servos and 100 Hz loop smooth the flywheel's
+reaction; ours realise a tilt within one period (docs/ficht-behnke.md).
 
 A state without a ZMP (an estimator with force sensors and no loaded limb gives NaN) drops the
 ZMP term for that period. The ablation modes of the paper's Table 1 are `FeedbackOptions`.
@@ -82,7 +85,8 @@ def choi_gains(omega: float) -> tuple[float, float]:
 class FeedbackOptions:
     """The CoM and inertia controllers' parts (Table 1's rows): `closed_loop` False is the
     open loop (x_set = x_ref); `leaky` False integrates with alpha = 0; `extended` adds
-    x'_vel and x'_eos; `inertia` runs the inertia controller."""
+    x'_vel and x'_eos; `inertia` runs the inertia controller; `tilt_lag` (ours) passes its set
+    tilt through the lag of `tilt_lag_time_constant`."""
 
     closed_loop: bool = True
     leaky: bool = True
@@ -90,14 +94,19 @@ class FeedbackOptions:
     inertia: bool = True
     tilt_lag: bool = False
 
+    def __post_init__(self) -> None:
+        if self.tilt_lag and not self.inertia:
+            raise ValueError("tilt_lag lags the inertia controller's tilt: it needs inertia=True")
+
 
 def tilt_lag_time_constant(omega: float, k_zmp: float) -> float:
     """tau [s] of the lagged tilt (ours, see the module): twice the bound K_zmp / omega^2 [1/s
-    over 1/s^2] above which eq. 14's ZMP term has a loop gain below 1 at every frequency, so a
-    gain of 1/2 at high frequencies; omega = sqrt(g / h) [1/s], K_zmp [1/s]. 0.29 s on our
-    humanoid at Choi's gains (K_zmp = omega / 2: tau = 1 / omega). Measured (MuJoCo / PyBullet,
-    `stand`, 10 s): a lag of 0.08 s falls (7.1 / 1.9 s), 0.10 s stands / falls (4.0 s), 0.12 s
-    and more stand in both."""
+    over 1/s^2] above which the ZMP term's path through the flywheel's reaction has a gain
+    below 1 at every frequency, so a gain of 1/2 at high frequencies; omega = sqrt(g / h)
+    [1/s], K_zmp [1/s]. 0.29 s on our humanoid at Choi's gains (K_zmp = omega / 2: tau = 1 /
+    omega). Measured (MuJoCo / PyBullet, `stand`, 10 s): a lag of 0.08 s falls (7.1 / 1.9 s),
+    0.10 s stands / falls (4.0 s), 0.12 s and more stand in both; at 1.6 K_zmp the boundary
+    moves to 0.12-0.15 s (MuJoCo)."""
     return 2.0 * k_zmp / omega**2
 
 

@@ -4,6 +4,7 @@ flywheel model; `flywheel_zmp` recovers the ZMP from it and the flywheel's accel
 import math
 
 import numpy as np
+import pytest
 
 from stabilizers.direct_centroidal import GRAVITY, flywheel_zmp
 
@@ -53,14 +54,17 @@ def test_without_a_measured_zmp_the_zmp_term_of_eq_8_is_dropped():
     assert np.array_equal(measured_or_reference_zmp(measured, reference), measured)
 
 
-def _flywheel_loop(tilt_lag: bool, periods: int = 2000, dt: float = 0.002) -> np.ndarray:
-    """The inertia controller (eqs. 13-15) closed over eq. 13's flywheel alone: the CoM held
-    still (as the pose generator holds it) with eq. 7's estimate, the CMP, 1 cm ahead of the
-    reference ZMP; each period's set tilt realised at once by the next period (stiff servos)
-    and its theta'' the second difference of the realised tilts (a perfect estimator), so that
-    `flywheel_zmp` sees the ZMP move by -I theta'' / (m g). Our humanoid's numbers: 58.4 kg,
-    0.82 m, I / (m h) = 0.12 m/rad. Returns the realised tilts theta_x [rad], cut short once
-    one exceeds 1 rad."""
+def _flywheel_loop(
+    tilt_lag: bool, periods: int = 2000, dt: float = 0.002, hidden: bool = False
+) -> np.ndarray:
+    """The inertia controller (eqs. 13-15) closed over eq. 13's flywheel alone: the IK's CoM
+    held still (the real robot's CoM moves with a tilt: docs/ficht-behnke.md) and a constant
+    1 cm offset of eq. 7's estimate from the reference ZMP as the forcing input; each
+    period's set tilt realised by the next period (stiff servos) and its theta'' the second
+    difference of the realised tilts (a perfect estimator), so that `flywheel_zmp` sees the
+    ZMP move by -I theta'' / (m g); with `hidden`, theta'' is not given (the paper's "hidden"
+    term) and that path is absent. Our humanoid's numbers: 58.4 kg, 0.82 m, I / (m h) = 0.12
+    m/rad. Returns the realised tilts theta_x [rad], cut short once one exceeds 1 rad."""
     from centroidal.tilt import angles_of_axis
     from stabilizers.direct_centroidal import (
         DirectCentroidalStabilizer,
@@ -85,7 +89,7 @@ def _flywheel_loop(tilt_lag: bool, periods: int = 2000, dt: float = 0.002) -> np
             zeros,
             cmp,
             realised[-1],
-            acceleration,
+            None if hidden else acceleration,
             np.eye(3),
             height,
             k_com,
@@ -98,21 +102,45 @@ def _flywheel_loop(tilt_lag: bool, periods: int = 2000, dt: float = 0.002) -> np
     return np.array([theta[0] for theta in realised[3:]])
 
 
-def test_with_the_tilt_realised_at_once_the_flywheel_loop_diverges_within_periods():
-    """Eq. 14's ZMP term through the flywheel's own reaction has a loop gain of K_zmp /
-    (omega^2 dt) per period (72 here): the tilt alternates in sign and passes 1 rad within
-    ten periods (the full method falls standing in both simulators)."""
+def _settles(tilts: np.ndarray) -> bool:
+    """All 2000 periods run, the tilt within 0.1 rad and still over the last second."""
+    return len(tilts) == 2000 and np.abs(tilts).max() < 0.1 and abs(tilts[-1] - tilts[-500]) < 1e-4
+
+
+def test_with_the_tilt_realised_the_next_period_the_flywheel_loop_diverges_within_periods():
+    """The ZMP term's path through the flywheel's reaction (`flywheel_zmp`'s theta'' term)
+    with a one-period delay: its dominant root is about -(1 + K_zmp / (omega^2 dt)) = -73, so
+    the tilt alternates in sign and passes 1 rad within ten periods."""
     tilts = _flywheel_loop(tilt_lag=False)
     assert len(tilts) < 10
     assert abs(tilts[-1]) >= 1.0
-    assert tilts[-1] * tilts[-2] < 0  # the period-to-period alternation of an unstable root
+    assert tilts[-1] * tilts[-2] < 0  # the period-to-period alternation of a negative root
+
+
+def test_with_the_papers_hidden_theta_dd_the_same_loop_settles_without_a_lag():
+    """The divergence above runs through the theta'' term only: without it (eq. 7's CMP used
+    as p, the paper's "hidden" theta'') the same loop settles."""
+    assert _settles(_flywheel_loop(tilt_lag=False, hidden=True))
 
 
 def test_through_the_lag_the_flywheel_loop_settles():
-    """With the set tilt through the lag of `tilt_lag_time_constant` (a high-frequency loop
-    gain of 1/2) the same loop settles: 4 s later the tilt has stopped moving, at a lean of
-    a few hundredths of a radian for the 1 cm ZMP error."""
-    tilts = _flywheel_loop(tilt_lag=True)
-    assert len(tilts) == 2000
-    assert np.abs(tilts).max() < 0.1
-    assert abs(tilts[-1] - tilts[-500]) < 1e-4  # the last second
+    """With the set tilt through the lag of `tilt_lag_time_constant` (twice the bound K_zmp /
+    omega^2) the same loop settles, at a lean of a few hundredths of a radian."""
+    assert _settles(_flywheel_loop(tilt_lag=True))
+
+
+@pytest.mark.parametrize(("factor", "settles"), [(0.8, False), (1.2, True)])
+def test_the_lags_bound_is_where_the_loop_turns_stable(monkeypatch, factor, settles):
+    """The bound tau > K_zmp / omega^2 (the path's gain below 1 at every frequency): a lag of
+    0.8 times it still diverges, 1.2 times it settles."""
+    import stabilizers.direct_centroidal as module
+
+    monkeypatch.setattr(module, "tilt_lag_time_constant", lambda w, k: factor * k / w**2)
+    assert _settles(_flywheel_loop(tilt_lag=True)) == settles
+
+
+def test_a_tilt_lag_without_the_inertia_controller_is_refused():
+    from stabilizers.direct_centroidal import FeedbackOptions
+
+    with pytest.raises(ValueError, match="inertia"):
+        FeedbackOptions(inertia=False, tilt_lag=True)
