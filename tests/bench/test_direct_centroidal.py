@@ -112,6 +112,27 @@ def test_it_stands_on_jvrc1_whose_com_is_off_the_feet_midpoint(sim):
     assert error.max() < 0.005
 
 
+def test_its_open_loop_row_walks_jvrc1_in_mujoco():
+    """On JVRC-1 the feedback, not the gait, is what falls: Table 1's open-loop row (fixed
+    stepping, no feedback, bent knees) walks `walk` in MuJoCo (6.2 cm from the goal,
+    2026-12-02; in PyBullet it falls at 5.98 s), while each feedback alone fells it in the
+    first steps (docs/ficht-behnke.md, "Why the five-mass rows fall on JVRC-1")."""
+    summary = _run("direct_centroidal/open_loop", "mujoco", "walk", robot="jvrc1").summary
+    assert summary["status"] == "ok"
+    assert summary["distance_walked_m"] > 1.0
+
+
+@pytest.mark.xfail(
+    strict=True,
+    reason="falls in its first steps on JVRC-1 (1.83 / 1.86 s, MuJoCo / PyBullet, 2026-12-02): "
+    "the gait's instant support exchange unloads both feet (0.2 m g) and the estimate jumps at "
+    "each exchange (docs/ficht-behnke.md, issue 17)",
+)
+@pytest.mark.parametrize("sim", SIMS)
+def test_it_walks_jvrc1(sim):
+    assert _run(WALKING, sim, "walk", robot="jvrc1").summary["status"] == "ok"
+
+
 @pytest.mark.xfail(
     strict=True,
     reason="inertia controller unstable on our robot: falls within 1.4 s standing (2026-12-01: "
