@@ -125,8 +125,8 @@ def test_its_open_loop_row_walks_jvrc1_in_mujoco():
 @pytest.mark.xfail(
     strict=True,
     reason="falls in its first steps on JVRC-1 (1.83 / 1.86 s, MuJoCo / PyBullet, 2026-12-02): "
-    "the gait's instant support exchange unloads both feet (0.2 m g) and the estimate jumps at "
-    "each exchange (docs/ficht-behnke.md, issue 17)",
+    "its exchanges unload both feet (0.2 m g) and its estimate jumps at each, but a double "
+    "support in effect falls too; the cause is not found (docs/ficht-behnke.md, issue 17)",
 )
 @pytest.mark.parametrize("sim", SIMS)
 def test_it_walks_jvrc1(sim):
