@@ -118,6 +118,9 @@ OURS = {
     "first-order lag",
 }
 """The rows of `DIRECT_CENTROIDAL_ROWS` that are not the paper's, and how they differ."""
+OURS_CONTROLLERS = frozenset(f"direct_centroidal/{row}" for row in OURS)
+"""The registered controllers that are our variants of a paper's method, not a row of it: the
+report tags them "(ours)" (`reports.build.label_ours`)."""
 
 
 def _direct_centroidal(row: str, planner: str, stabilizer: str, layer: str) -> ControllerSpec:

@@ -116,6 +116,19 @@ def read_all_results(
     return episodes, records, notes
 
 
+def label_ours(episodes: pd.DataFrame) -> pd.DataFrame:
+    """The episodes with " (ours)" after the name of a controller that is our variant of a
+    paper's method rather than a method or row of the paper (`bench.controllers.
+    OURS_CONTROLLERS`: "direct_centroidal/bent_no_inertia (ours)"), so that no table shows one
+    of ours under a name that reads as the paper's."""
+    from bench.controllers import OURS_CONTROLLERS
+
+    ours = episodes["controller"].isin(OURS_CONTROLLERS)
+    return episodes.assign(
+        controller=episodes["controller"].where(~ours, episodes["controller"] + " (ours)")
+    )
+
+
 def label_estimators(episodes: pd.DataFrame) -> pd.DataFrame:
     """The episodes with a controller's estimator in its label when it is not the default one
     ("capturability_hierarchy [ground_truth]"), so that every table says which controllers
@@ -546,7 +559,7 @@ def build_report(
     if not roots:
         raise FileNotFoundError("no result directory given")
     episodes, records, notes = read_all_results(roots)
-    episodes = label_robots(label_estimators(episodes))
+    episodes = label_robots(label_estimators(label_ours(episodes)))
     record = records[0]
     windows = {survival_time_s(r) for r in records}
     if len(windows) > 1:
@@ -570,7 +583,7 @@ def build_report(
         if (stats := tables.solve_time_stats(trace, plots.HIERARCHY_TIME_COLUMN))
     }
     trials = [t for t in (_speed_trials(root, notes) for root in roots) if t is not None]
-    speed = label_estimators(pd.concat(trials, ignore_index=True)) if trials else None
+    speed = label_estimators(label_ours(pd.concat(trials, ignore_index=True))) if trials else None
     parts = sections(episodes, benchmark, survival_time_s(record), solve_times, speed)
     parts = [
         (title, text, _with_replay_files(table, out) if title == "Replays" else table)

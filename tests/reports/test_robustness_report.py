@@ -515,3 +515,34 @@ def test_the_degradation_table_says_how_many_fell_before_their_push():
     table = robustness.degradation_table(pd.DataFrame(rows)).set_index("magnitude")
     assert (table.loc[10.0, "survived"], table.loc[10.0, "before_push"]) == (0, 10)
     assert (table.loc[0.0, "survived"], table.loc[0.0, "before_push"]) == (10, 0)
+
+
+def test_a_controller_of_ours_is_tagged_in_the_report():
+    """Our variants of Ficht & Behnke's method (not rows of the paper's Table 1) carry "(ours)"
+    in every table; the paper's rows and the other methods keep their names."""
+    from bench.controllers import OURS_CONTROLLERS
+    from reports.build import label_estimators, label_ours
+
+    assert "direct_centroidal/bent_no_inertia" in OURS_CONTROLLERS
+    assert "direct_centroidal/no_inertia" not in OURS_CONTROLLERS  # Table 1's last row
+    rows = pd.DataFrame(
+        [
+            _push("direct_centroidal/bent_no_inertia", "mujoco", 0.3, 0, True),
+            _push("direct_centroidal/no_inertia", "mujoco", 0.3, 0, True),
+            _push("direct_centroidal", "mujoco", 0.3, 0, True, estimator="five_mass_kalman"),
+            _push(
+                "direct_centroidal/lagged_inertia",
+                "mujoco",
+                0.3,
+                0,
+                True,
+                estimator="five_mass_kalman",
+            ),
+        ]
+    )
+    assert list(label_estimators(label_ours(rows))["controller"]) == [
+        "direct_centroidal/bent_no_inertia (ours)",
+        "direct_centroidal/no_inertia",
+        "direct_centroidal [five_mass_kalman]",
+        "direct_centroidal/lagged_inertia (ours) [five_mass_kalman]",
+    ]
