@@ -5,7 +5,10 @@ from bench.controllers import controller_spec
 from bench.runner import EpisodeResult, EpisodeSpec, run_episode
 
 
-def run_controller(controller: str, sim: str, scenario: str, **kwargs) -> EpisodeResult:
+def run_controller(
+    controller: str, sim: str, scenario: str, estimator: str | None = None, **kwargs
+) -> EpisodeResult:
+    """`estimator` None: the controller's own."""
     spec = controller_spec(controller)
     return run_episode(
         EpisodeSpec(
@@ -13,7 +16,7 @@ def run_controller(controller: str, sim: str, scenario: str, **kwargs) -> Episod
             spec.stabilizer,
             sim,
             scenario,
-            estimator=spec.episode_estimator,
+            estimator=estimator or spec.episode_estimator,
             whole_body=spec.whole_body,
             **kwargs,
         )
