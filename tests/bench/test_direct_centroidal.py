@@ -144,10 +144,10 @@ def test_given_a_perfect_state_its_stepping_controller_alone_walks_jvrc1(sim):
 @pytest.mark.xfail(
     strict=True,
     reason="with a perfect state (ground_truth) it still falls on JVRC-1, laterally (5.13 / "
-    "5.09 s, MuJoCo / PyBullet, 2026-12-02): its CoM controller's K_com term is the harmful "
-    "one (the leaky row with fixed stepping falls at 5.37 / 5.33 s, with K_com alone at 2.90 / "
-    "2.89 s, with K_zmp alone at 11.37 / 11.40 s, 0.3 s before the walk's end), and the sole's "
-    "8 cm width limits it (12 cm wide: 7.45 / 6.70 s) (docs/ficht-behnke.md, issue 17)",
+    "5.09 s, MuJoCo / PyBullet, 2026-12-02; the humanoid walks so), at our gains inside Choi's "
+    "condition (K_com = 2 omega, K_zmp = omega / 2); with K_com 1.1-1.5 omega and K_zmp "
+    "0.8-0.95 omega, also inside it, it walks in both (four pairs of four), and with its own "
+    "filter it falls at every pair (docs/ficht-behnke.md, issue 17)",
 )
 @pytest.mark.parametrize("sim", SIMS)
 def test_given_a_perfect_state_it_walks_jvrc1(sim):
