@@ -109,6 +109,20 @@ DIRECT_CENTROIDAL_ROWS = (
     # ours: every component, the inertia controller's set tilt through a first-order lag, with
     # which it stands (`stabilizers.direct_centroidal.tilt_lag_time_constant`)
     ("lagged_inertia", "five_mass_gait", "direct_centroidal_lagged_inertia", "five_mass_pose"),
+    # ours: the two rows without inertia control at CoM gains nearer omega, inside Choi's
+    # condition (`stabilizers.direct_centroidal.choi_gains`; measured, not the default)
+    (
+        "no_inertia_near_omega",
+        "five_mass_gait",
+        "direct_centroidal_no_inertia_near_omega",
+        "five_mass_pose",
+    ),
+    (
+        "bent_no_inertia_near_omega",
+        "five_mass_gait",
+        "direct_centroidal_no_inertia_near_omega",
+        "five_mass_pose_bent",
+    ),
 )
 OURS = {
     "bent_no_inertia": "ours: bent knees, no inertia control",
@@ -116,6 +130,10 @@ OURS = {
     "gravity feed-forward",
     "lagged_inertia": "ours: every component, the inertia controller's set tilt through a "
     "first-order lag",
+    "no_inertia_near_omega": "ours: every component but inertia control, K_com = 1.5 omega "
+    "and K_zmp = 0.8 omega",
+    "bent_no_inertia_near_omega": "ours: bent knees, no inertia control, K_com = 1.5 omega "
+    "and K_zmp = 0.8 omega",
 }
 """The rows of `DIRECT_CENTROIDAL_ROWS` that are not the paper's, and how they differ."""
 OURS_CONTROLLERS = frozenset(f"direct_centroidal/{row}" for row in OURS)

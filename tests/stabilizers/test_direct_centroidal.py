@@ -144,3 +144,26 @@ def test_a_tilt_lag_without_the_inertia_controller_is_refused():
 
     with pytest.raises(ValueError, match="inertia"):
         FeedbackOptions(inertia=False, tilt_lag=True)
+
+
+@pytest.mark.parametrize(
+    ("k_com", "k_zmp"),
+    [(1.0, 0.5), (0.9, 0.5), (2.0, 1.0), (2.0, 1.2), (2.0, 0.0), (2.0, -0.5), (math.nan, 0.5)],
+)
+def test_gains_outside_chois_condition_are_refused(k_com, k_zmp):
+    """K_com > omega > K_zmp > 0 (Choi et al.'s input-to-state stability condition, which the
+    paper follows): a ratio on its boundary or outside it, or NaN, is a one-line ValueError."""
+    from stabilizers.direct_centroidal import FeedbackOptions
+
+    with pytest.raises(ValueError, match="Choi's condition"):
+        FeedbackOptions(k_com_per_omega=k_com, k_zmp_per_omega=k_zmp)
+
+
+def test_the_gain_ratios_set_both_controllers_gains():
+    """The CoM controller's gains are the ratios times omega = sqrt(g / h): the default ones
+    are 2 omega and omega / 2, and other ratios inside the condition give other gains."""
+    from stabilizers.direct_centroidal import choi_gains
+
+    omega = math.sqrt(GRAVITY / 0.8)
+    assert choi_gains(omega) == pytest.approx((2.0 * omega, 0.5 * omega), rel=1e-12)
+    assert choi_gains(omega, 1.5, 0.8) == pytest.approx((1.5 * omega, 0.8 * omega), rel=1e-12)
