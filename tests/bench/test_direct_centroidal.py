@@ -241,8 +241,9 @@ NEAR_OMEGA = "direct_centroidal/no_inertia_near_omega"
 def test_at_gains_nearer_omega_it_survives_the_first_standing_pushes(sim):
     """`direct_centroidal/no_inertia_near_omega` (ours: K_com = 1.5 omega, K_zmp = 0.8 omega,
     inside Choi's condition as the default's 2 omega and omega / 2 are): the main job's
-    standing pushes at 0.35 m/s (seed 0), the first six, all survived (measured 20 / 20 of
-    the twenty in both simulators against the default gains' 13 / 20, exact McNemar p =
+    standing pushes at 0.35 m/s (seed 0), the first six, all survived; at the default gains
+    `direct_centroidal/no_inertia` survives 4 of these six in each simulator (measured
+    2026-12-02; of the twenty, 20 / 20 against 13 / 20 in both simulators, exact McNemar p =
     0.016; 20 / 19 against 13 / 14 with seed 1: docs/ficht-behnke.md)."""
     from bench.push_protocol import PushProtocol, push_episodes
     from bench.runner import run_episode
