@@ -109,6 +109,9 @@ DIRECT_CENTROIDAL_ROWS = (
     # ours: every component, the inertia controller's set tilt through a first-order lag, with
     # which it stands (`stabilizers.direct_centroidal.tilt_lag_time_constant`)
     ("lagged_inertia", "five_mass_gait", "direct_centroidal_lagged_inertia", "five_mass_pose"),
+    # ours: the same with the set tilt bounded (`stabilizers.direct_centroidal.TILT_LIMIT_RAD`),
+    # with which it walks
+    ("bounded_inertia", "five_mass_gait", "direct_centroidal_bounded_inertia", "five_mass_pose"),
     # ours: the two rows without inertia control at CoM gains nearer omega, inside Choi's
     # condition (`stabilizers.direct_centroidal.choi_gains`; measured, not the default)
     (
@@ -130,6 +133,8 @@ OURS = {
     "gravity feed-forward",
     "lagged_inertia": "ours: every component, the inertia controller's set tilt through a "
     "first-order lag",
+    "bounded_inertia": "ours: every component, the inertia controller's set tilt through a "
+    "first-order lag and within 0.02 rad",
     "no_inertia_near_omega": "ours: every component but inertia control, K_com = 1.5 omega "
     "and K_zmp = 0.8 omega",
     "bent_no_inertia_near_omega": "ours: bent knees, no inertia control, K_com = 1.5 omega "

@@ -208,6 +208,52 @@ def test_with_its_set_tilt_through_a_lag_the_full_method_stands(sim, monkeypatch
     assert max(leans) > 0.005
 
 
+BOUNDED = "direct_centroidal/bounded_inertia"
+
+
+@pytest.mark.parametrize("sim", SIMS)
+def test_with_its_set_tilt_lagged_and_bounded_the_full_method_walks(sim, monkeypatch):
+    """`direct_centroidal/bounded_inertia` (ours): the lagged set tilt of `lagged_inertia`, which
+    falls in `walk` at 2.2 / 2.6 s, held within `TILT_LIMIT_RAD`: every component on, it walks
+    `walk` (measured 9.4 / 2.7 cm from the goal, MuJoCo / PyBullet, 2026-12-02; the bound
+    `no_inertia`'s test holds is 15 cm), its set tilt never passes the bound, and the inertia
+    controller acts: eq. 15's set tilt is at its bound in more than a quarter of the periods
+    about each axis (measured 56 % in x, 73 % in y, MuJoCo)."""
+    from stabilizers.direct_centroidal import TILT_LIMIT_RAD, DirectCentroidalStabilizer
+
+    set_tilts, lagged = [], []  # [rad] eq. 15's, and through the lag
+    inertia = DirectCentroidalStabilizer._inertia
+
+    def recorded(self, *args):
+        axes = inertia(self, *args)
+        height = args[7]
+        scale = np.array([self.moments[1], self.moments[0]]) / (self.mass * height)
+        set_tilts.append(np.abs(self.x_aug_i / scale))
+        lagged.append(np.abs(self.theta_lagged))
+        return axes
+
+    monkeypatch.setattr(DirectCentroidalStabilizer, "_inertia", recorded)
+    summary = _run(BOUNDED, sim, "walk").summary
+    assert summary["status"] == "ok", summary["error"]
+    assert summary["final_position_error_m"] < 0.15
+    set_tilts, lagged = np.array(set_tilts), np.array(lagged)
+    assert set_tilts.max() <= TILT_LIMIT_RAD * (1 + 1e-9)
+    assert lagged.max() <= TILT_LIMIT_RAD * (1 + 1e-9)
+    assert np.mean(set_tilts > 0.999 * TILT_LIMIT_RAD, axis=0).min() > 0.25
+
+
+@pytest.mark.xfail(
+    strict=True,
+    reason="the inertia controller, lagged and bounded, falls under the 15 N s walking push "
+    "that no_inertia survives (8.8 / 8.8 s, MuJoCo / PyBullet, 2026-12-02; at 0.01 rad 10.1 / "
+    "10.2 s; issue 17)",
+)
+@pytest.mark.parametrize("sim", SIMS)
+def test_with_its_set_tilt_lagged_and_bounded_it_survives_the_15_ns_push(sim):
+    summary = _run(BOUNDED, sim, "walk_push", push_impulse=15.0, push_direction_deg=90.0).summary
+    assert summary["status"] == "ok"
+
+
 @pytest.mark.parametrize("sim", SIMS)
 def test_with_the_straight_support_leg_constraint_it_walks_too(sim):
     """Table 1's last row (every component but inertia control): the support knees held at

@@ -55,7 +55,11 @@ def test_without_a_measured_zmp_the_zmp_term_of_eq_8_is_dropped():
 
 
 def _flywheel_loop(
-    tilt_lag: bool, periods: int = 2000, dt: float = 0.002, hidden: bool = False
+    tilt_lag: bool,
+    periods: int = 2000,
+    dt: float = 0.002,
+    hidden: bool = False,
+    tilt_limit: float | None = None,
 ) -> np.ndarray:
     """The inertia controller (eqs. 13-15) closed over eq. 13's flywheel alone: the IK's CoM
     held still (the real robot's CoM moves with a tilt: docs/ficht-behnke.md) and a constant
@@ -63,8 +67,9 @@ def _flywheel_loop(
     period's set tilt realised by the next period (stiff servos) and its theta'' the second
     difference of the realised tilts (a perfect estimator), so that `flywheel_zmp` sees the
     ZMP move by -I theta'' / (m g); with `hidden`, theta'' is not given (the paper's "hidden"
-    term) and that path is absent. Our humanoid's numbers: 58.4 kg, 0.82 m, I / (m h) = 0.12
-    m/rad. Returns the realised tilts theta_x [rad], cut short once one exceeds 1 rad."""
+    term) and that path is absent; `tilt_limit` bounds the set tilt. Our humanoid's numbers:
+    58.4 kg, 0.82 m, I / (m h) = 0.12 m/rad. Returns the realised tilts theta_x [rad], cut
+    short once one exceeds 1 rad."""
     from centroidal.tilt import angles_of_axis
     from stabilizers.direct_centroidal import (
         DirectCentroidalStabilizer,
@@ -76,7 +81,8 @@ def _flywheel_loop(
     inertia = scale * mass * height
     omega = math.sqrt(GRAVITY / height)
     k_com, k_zmp = choi_gains(omega)
-    stabilizer = DirectCentroidalStabilizer(dt, FeedbackOptions(tilt_lag=tilt_lag))
+    options = FeedbackOptions(tilt_lag=tilt_lag, tilt_limit=tilt_limit)
+    stabilizer = DirectCentroidalStabilizer(dt, options)
     stabilizer.mass, stabilizer.moments = mass, np.array([inertia, inertia, 0.3 * inertia])
     stabilizer.x_aug_i, stabilizer.theta_lagged = np.zeros(2), np.zeros(2)
     zeros, cmp = np.zeros(2), np.array([0.01, 0.0])
@@ -137,6 +143,42 @@ def test_the_lags_bound_is_where_the_loop_turns_stable(monkeypatch, factor, sett
 
     monkeypatch.setattr(module, "tilt_lag_time_constant", lambda w, k: factor * k / w**2)
     assert _settles(_flywheel_loop(tilt_lag=True)) == settles
+
+
+def test_through_the_lag_and_a_bound_the_set_tilt_settles_at_the_bound():
+    """The lagged loop above settles at a lean beyond 0.01 rad; with `tilt_limit` 0.01 rad the
+    realised tilt never passes the bound and settles on it (through the lag, exponentially)."""
+    free = _flywheel_loop(tilt_lag=True)
+    assert abs(free[-1]) > 0.012
+    bounded = _flywheel_loop(tilt_lag=True, tilt_limit=0.01)
+    assert _settles(bounded)
+    assert np.abs(bounded).max() <= 0.01 + 1e-12
+    assert abs(bounded[-1]) == pytest.approx(0.01, rel=1e-3)  # the lag approaches it
+
+
+def test_a_bound_without_the_lag_does_not_settle_the_flywheel_loop():
+    """The bound caps the tilt but does not remove the fast loop: realised the next period,
+    the bounded tilt keeps alternating between near its two bounds, period by period."""
+    tilts = _flywheel_loop(tilt_lag=False, tilt_limit=0.01)
+    assert len(tilts) == 2000
+    last = tilts[-100:]
+    assert np.all(last[1:] * last[:-1] < 0)
+    assert np.abs(last).min() > 0.005
+
+
+@pytest.mark.parametrize("limit", [0.0, -0.01, math.nan, 1.6])
+def test_a_tilt_limit_outside_0_to_pi_over_2_is_refused(limit):
+    from stabilizers.direct_centroidal import FeedbackOptions
+
+    with pytest.raises(ValueError, match="tilt_limit must be in"):
+        FeedbackOptions(tilt_limit=limit)
+
+
+def test_a_tilt_limit_without_the_inertia_controller_is_refused():
+    from stabilizers.direct_centroidal import FeedbackOptions
+
+    with pytest.raises(ValueError, match="inertia"):
+        FeedbackOptions(inertia=False, tilt_limit=0.02)
 
 
 def test_a_tilt_lag_without_the_inertia_controller_is_refused():
