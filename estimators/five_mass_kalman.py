@@ -24,6 +24,11 @@ the IMU and the joint encoders only, no force sensors.
   The filter is time-invariant, so its steady-state gain is computed once from the discrete
   Riccati equation (scipy).
 - ZMP (eq. 7): p = x^ - z^ / g x^'', with z^ the CoM height above the support sole.
+- `five_mass_kalman_com` (ours, not the paper's): the same filter measuring the IMU's
+  acceleration transported to the CoM through the kinematics, G a_c = G a_t + d/dt (c' - t')
+  (`transport_to_com`), for a robot whose IMU is not in its trunk: JVRC-1's is on its pelvis
+  below the waist joints, where the touchdowns' impacts reach it (docs/ficht-behnke.md, "The
+  five-mass filter on JVRC-1").
 - A second filter of the same form on the flywheel angle, measuring the angles only, gives
   their rates and accelerations: the projected tilt angles (`centroidal.tilt`) of the
   principal z axis of inertia less those of the line from the feet's midpoint to the CoM (the
@@ -91,11 +96,34 @@ class AxisFilter:
         return self.state
 
 
+def transport_to_com(
+    acceleration_imu_world: np.ndarray,
+    relative_velocity_world: np.ndarray,
+    previous_relative_velocity_world: np.ndarray | None,
+    dt: float,
+) -> np.ndarray:
+    """[m/s^2] the CoM's acceleration (world axes) from the IMU's: c'' = t'' + d/dt (c' - t'),
+    with c' - t' [m/s] the CoM's velocity relative to the IMU's origin (world axes, from the
+    encoders and the gyro, so independent of the base's linear velocity) this period and the
+    last, differenced over dt [s] (one period's backward difference; None: the first period,
+    the IMU's acceleration as it is). Ours: the paper measures the trunk's acceleration
+    (eq. 6), which is the CoM's only as far as the trunk moves with the CoM."""
+    if previous_relative_velocity_world is None:
+        return acceleration_imu_world.copy()
+    return (
+        acceleration_imu_world + (relative_velocity_world - previous_relative_velocity_world) / dt
+    )
+
+
 class FiveMassKalmanEstimator(EstimatorBase):
     name = "five_mass_kalman"
 
-    def __init__(self, model: RobotModel, dt: float = 0.002) -> None:
+    def __init__(self, model: RobotModel, dt: float = 0.002, at_com: bool = False) -> None:
+        """at_com: measure the IMU's acceleration transported to the CoM (`transport_to_com`,
+        ours) instead of the trunk's (eq. 6, the paper's)."""
         super().__init__(model)
+        self.at_com = at_com
+        self.imu_frame = model.frame_id[model.robot.imu_frame]
         self.five = FiveMassModel(model)
         self.dt = dt
         self.hysteresis = HYSTERESIS_M * model.robot.scale
@@ -129,6 +157,7 @@ class FiveMassKalmanEstimator(EstimatorBase):
         soles = [self.data.oMf[f].translation for f in self.foot_frames]
         pendulum = five.com_world - (soles[0] + soles[1]) / 2
         self.tilt_filter.reset(angles_of_axis(five.axes_world[:, 2]) - angles_of_axis(pendulum))
+        self._relative_velocity: np.ndarray | None = None
 
     def follow(self, plan: CentroidalPlan) -> None:
         """The plan's support foot and footholds: the ground frame in which the reference is
@@ -185,6 +214,15 @@ class FiveMassKalmanEstimator(EstimatorBase):
         com = com_relative + base_position
         trunk_acceleration = rotation @ sensors.imu_linear_acceleration_imu
         trunk_acceleration[2] -= GRAVITY  # eq. 6
+        if self.at_com:
+            imu_velocity = pin.getFrameVelocity(
+                model, data, self.imu_frame, pin.LOCAL_WORLD_ALIGNED
+            )
+            relative = data.vcom[0] - imu_velocity.linear
+            trunk_acceleration = transport_to_com(
+                trunk_acceleration, relative, self._relative_velocity, self.dt
+            )
+            self._relative_velocity = relative.copy()
         state = self.com_filter.update(np.array([com[:2], trunk_acceleration[:2]]))
         pendulum = com_relative - (soles[0] + soles[1]) / 2  # feet's midpoint to CoM
         flywheel = angles_of_axis(five.axes_world[:, 2]) - angles_of_axis(pendulum)
@@ -217,10 +255,22 @@ def _make(model: RobotModel) -> FiveMassKalmanEstimator:
     return FiveMassKalmanEstimator(model)
 
 
+def _make_at_com(model: RobotModel) -> FiveMassKalmanEstimator:
+    return FiveMassKalmanEstimator(model, at_com=True)
+
+
 register(
     ComponentSpec(
         "five_mass_kalman",
         _make,
         "Ficht & Behnke: IMU and encoders only, lower-foot odometry, Kalman CoM and ZMP (eq. 6-7)",
+    )
+)
+register(
+    ComponentSpec(
+        "five_mass_kalman_com",
+        _make_at_com,
+        "ours: five_mass_kalman with the IMU's acceleration transported to the CoM through the "
+        "kinematics (for an IMU outside the trunk)",
     )
 )
