@@ -146,6 +146,12 @@ periods of `walk`, MuJoCo) and the full method walks `walk` in both simulators (
 20 standing pushes at 0.35 m/s on two seeds (40 a simulator, MuJoCo / PyBullet), 0.01 rad
 survives 26 / 27 as `no_inertia` does, 0.02 26 / 25, 0.03 22 / 22; on one seed 0.05 12 / 11
 and 0.10 9 / 9 of 20 (2026-12-02, docs/ficht-behnke.md, "The inertia controller bounded")."""
+NO_TILT = (
+    "direct_centroidal's inertia control (eqs. 12-15) needs the estimator's inertia tilt "
+    "(RobotState.inertia_tilt), which only five_mass_kalman and five_mass_kalman_com give"
+)
+"""The error of an inertia-controlled episode run with an estimator that gives no tilt (e.g.
+`ground_truth`): the controller would otherwise run without its inertia control, unseen."""
 
 
 def tilt_lag_time_constant(omega: float, k_zmp: float) -> float:
@@ -210,7 +216,9 @@ class DirectCentroidalStabilizer:
                 # eq. 5 for the set CoM (the generator's feet are relative to it): the reference
                 # axes turned with the feet-to-CoM line
                 axes_set = tilt_rotation(moved) @ tilt_rotation(reference).T @ axes
-                if options.inertia and state.inertia_tilt is not None:
+                if options.inertia:
+                    if state.inertia_tilt is None:
+                        raise ValueError(NO_TILT)
                     neutral = angles_of_axis(axes[:, 2]) - angles_of_axis(reference)
                     axes_set = self._inertia(
                         com_target[:2],
