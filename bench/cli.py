@@ -874,12 +874,15 @@ def _run(args: argparse.Namespace) -> int:
     ].takes_push:
         pushing = ", ".join(s.name for s in SCENARIOS.values() if s.takes_push)
         raise UsageError(f"scenario {args.scenario!r} takes no push; scenarios with one: {pushing}")
-    from bench.controllers import ControllerSpec, refusal
+    from bench.controllers import ControllerSpec, controller_spec, refusal
     from bench.scenarios import WALKS_WITH_SPEED
 
-    reason = refusal(
-        ControllerSpec(args.planner, args.stabilizer, whole_body=args.whole_body), args.scenario
+    controller = (
+        controller_spec(args.controller)
+        if args.controller
+        else ControllerSpec(args.planner, args.stabilizer, whole_body=args.whole_body)
     )
+    reason = refusal(controller, args.scenario, args.estimator)
     if reason is not None:
         raise UsageError(reason)
     if args.speed is not None and args.scenario not in WALKS_WITH_SPEED:
@@ -963,7 +966,9 @@ def _list(args: argparse.Namespace) -> int:
 
     def described(registry, default: str | None = None) -> dict[str, str]:
         return {
-            n: registry.get(n).description + (" (default)" if n == default else "")
+            n: registry.get(n).description
+            + (" (default)" if n == default else "")
+            + (f" (gives: {', '.join(sorted(g))})" if (g := registry.get(n).gives) else "")
             for n in registry.names()
         }
 
@@ -973,6 +978,7 @@ def _list(args: argparse.Namespace) -> int:
                 f"  {name}\n      ({spec.planner}, {spec.stabilizer}, {spec.whole_body}) "
                 f"{spec.description}\n      can: {', '.join(sorted(spec.can))}"
                 + (f"; needs: {', '.join(sorted(spec.needs))}" if spec.needs else "")
+                + (f"; reads: {', '.join(sorted(spec.needs_state))}" if spec.needs_state else "")
                 + (f"; estimator: {spec.estimator}" if spec.estimator else "")
             )
 

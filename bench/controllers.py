@@ -15,7 +15,7 @@ from dataclasses import dataclass
 
 from estimators import DEFAULT_ESTIMATOR
 from planners.base import PLANNERS, planner_spec
-from robots.registry import CAPABILITIES
+from robots.registry import CAPABILITIES, STATE
 from stabilizers.base import STABILIZERS, stabilizer_spec
 from wholebody.base import DEFAULT_WHOLE_BODY, WHOLE_BODY_LAYERS
 
@@ -42,6 +42,12 @@ class ControllerSpec:
     def needs(self) -> frozenset[str]:
         """What it needs of the robot (`robots.registry.NEEDS`): what either part needs."""
         return planner_spec(self.planner).needs | stabilizer_spec(self.stabilizer).needs
+
+    @property
+    def needs_state(self) -> frozenset[str]:
+        """What it reads of the estimator's state beyond what every estimator gives
+        (`robots.registry.STATE`): what either part reads."""
+        return planner_spec(self.planner).needs_state | stabilizer_spec(self.stabilizer).needs_state
 
     @property
     def episode_estimator(self) -> str:
@@ -212,16 +218,34 @@ def controller_spec(name: str) -> ControllerSpec:
     )
 
 
-def refusal(controller: ControllerSpec, scenario: str) -> str | None:
-    """Why `controller` cannot run `scenario` (one line), or None if it can: the scenario asks
-    for something neither its planner nor its stabilizer declares (`ScenarioSpec.requires`
-    against `ControllerSpec.can`)."""
+def refusal(controller: ControllerSpec, scenario: str, estimator: str | None = None) -> str | None:
+    """Why `controller` cannot run `scenario` with `estimator` (one line), or None if it can:
+    the scenario asks for something neither its planner nor its stabilizer declares
+    (`ScenarioSpec.requires` against `ControllerSpec.can`), or the controller reads a state the
+    estimator does not give (`ControllerSpec.needs_state` against the estimator's `gives`;
+    None: the estimator is not checked)."""
     from bench.scenarios import SCENARIOS
 
     missing = sorted(SCENARIOS[scenario].requires - controller.can)
+    if missing:
+        return (
+            f"{controller.name} cannot do {', '.join(missing)} "
+            f"({'; '.join(CAPABILITIES[m] for m in missing)}), which {scenario} needs"
+        )
+    return estimator_refusal(controller, estimator) if estimator is not None else None
+
+
+def estimator_refusal(controller: ControllerSpec, estimator: str) -> str | None:
+    """Why `controller` cannot run with `estimator` (one line, naming the estimators that
+    would do), or None if it can."""
+    from estimators.base import ESTIMATORS
+
+    missing = sorted(controller.needs_state - ESTIMATORS.get(estimator).gives)
     if not missing:
         return None
+    givers = [n for n in ESTIMATORS.names() if set(missing) <= ESTIMATORS.get(n).gives]
     return (
-        f"{controller.name} cannot do {', '.join(missing)} "
-        f"({'; '.join(CAPABILITIES[m] for m in missing)}), which {scenario} needs"
+        f"{controller.name} cannot run with the estimator {estimator}: it reads "
+        f"{', '.join(missing)} ({'; '.join(STATE[m] for m in missing)}), which only "
+        f"{', '.join(givers) or 'no registered estimator'} give"
     )

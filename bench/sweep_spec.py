@@ -335,13 +335,13 @@ def _episode(controller: str, run: EpisodeSpec, keep_trace: bool, **labels) -> E
         }
     key = json.dumps({"controller": controller, **fields, **labels}, sort_keys=True)
     episode_id = hashlib.sha1(key.encode()).hexdigest()[:16]
-    refused = _refusal(controller, run.scenario)
+    refused = _refusal(controller, run.scenario, run.estimator)
     return Episode(episode_id, controller, run, keep_trace=keep_trace, refused=refused, **labels)
 
 
 @functools.cache
-def _refusal(controller: str, scenario: str) -> str | None:
-    return refusal(controller_spec(controller), scenario)
+def _refusal(controller: str, scenario: str, estimator: str) -> str | None:
+    return refusal(controller_spec(controller), scenario, estimator)
 
 
 # ---------------------------------------------------------------- parsing and validation

@@ -264,6 +264,7 @@ register(
         "five_mass_kalman",
         _make,
         "Ficht & Behnke: IMU and encoders only, lower-foot odometry, Kalman CoM and ZMP (eq. 6-7)",
+        gives=frozenset({"inertia_tilt"}),
     )
 )
 register(
@@ -272,5 +273,6 @@ register(
         _make_at_com,
         "ours: five_mass_kalman with the IMU's acceleration transported to the CoM through the "
         "kinematics (for an IMU outside the trunk)",
+        gives=frozenset({"inertia_tilt"}),
     )
 )

@@ -16,6 +16,12 @@ CAPABILITIES = {
     "turning": "walking paths that turn (footholds and soles yawed along the path)",
 }
 NEEDS = {"force_torque_sensors": "6-axis force/torque sensors at the feet and hands"}
+# What of a `RobotState` beyond the base, joints, CoM, wrenches and ZMP an estimator gives
+# (`ComponentSpec.gives`) and a stabilizer reads (`ComponentSpec.needs_state`)
+STATE = {
+    "inertia_tilt": "the tilt of the inertia's principal axes and its acceleration "
+    "(RobotState.inertia_tilt, Ficht & Behnke eqs. 12-15)"
+}
 FLAT_GROUND = frozenset({"flat_ground"})  # what a scenario asks for by default
 WALKING = frozenset({"flat_ground", "turning"})  # what a component can by default
 MULTI_CONTACT = WALKING | {"multi_contact"}
@@ -25,7 +31,8 @@ MULTI_CONTACT = WALKING | {"multi_contact"}
 class ComponentSpec:
     """A registered component: `factory(dt)` builds one for control period dt [s];
     `pairs_with` names the only counterparts it makes sense with (empty: any); `can` what it
-    can do (`CAPABILITIES`), `needs` what it needs of the robot (`NEEDS`)."""
+    can do (`CAPABILITIES`), `needs` what it needs of the robot (`NEEDS`); an estimator's
+    `gives` what of `STATE` it gives, a stabilizer's `needs_state` what of it it reads."""
 
     name: str
     factory: Callable[[float], Any]
@@ -33,6 +40,8 @@ class ComponentSpec:
     pairs_with: tuple[str, ...] = ()
     can: frozenset[str] = WALKING
     needs: frozenset[str] = frozenset()
+    gives: frozenset[str] = frozenset()
+    needs_state: frozenset[str] = frozenset()
 
 
 class Registry:

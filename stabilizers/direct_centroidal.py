@@ -151,7 +151,9 @@ NO_TILT = (
     "(RobotState.inertia_tilt), which only five_mass_kalman and five_mass_kalman_com give"
 )
 """The error of an inertia-controlled episode run with an estimator that gives no tilt (e.g.
-`ground_truth`): the controller would otherwise run without its inertia control, unseen."""
+`ground_truth`): the controller would otherwise run without its inertia control, unseen.
+Sweeps and `run` refuse such a pair before it starts (the variants' `needs_state`,
+`bench.controllers.estimator_refusal`); this is the guard for an episode started otherwise."""
 
 
 def tilt_lag_time_constant(omega: float, k_zmp: float) -> float:
@@ -357,4 +359,12 @@ VARIANTS = {
     ),
 }
 for _name, (_options, _description) in VARIANTS.items():
-    register(StabilizerSpec(_name, _make(_options), _description))
+    _reads = _options.inertia and _options.closed_loop  # eqs. 12-15 read the tilt
+    register(
+        StabilizerSpec(
+            _name,
+            _make(_options),
+            _description,
+            needs_state=frozenset({"inertia_tilt"}) if _reads else frozenset(),
+        )
+    )

@@ -91,3 +91,80 @@ def test_run_refuses_a_scenario_the_controller_cannot_do(capsys, multi_contact_s
     err = capsys.readouterr().err.strip().splitlines()
     assert len(err) == 1
     assert "hold+posture cannot do multi_contact" in err[0]
+
+
+INERTIA_ROWS = ("direct_centroidal", "direct_centroidal/lagged_inertia")
+
+
+def test_inertia_controlled_rows_read_the_tilt_that_only_the_five_mass_estimators_give():
+    """Eqs. 12-15 feed back the inertia axes' tilt, which only Ficht & Behnke's filter
+    (Sec. 3.2's second filter) estimates; the rows without inertia control read nothing more
+    than any estimator gives."""
+    from estimators.base import ESTIMATORS
+
+    gives = {n: ESTIMATORS.get(n).gives for n in ESTIMATORS.names()}
+    assert {n for n, g in gives.items() if "inertia_tilt" in g} == {
+        "five_mass_kalman",
+        "five_mass_kalman_com",
+    }
+    for name in (*INERTIA_ROWS, "direct_centroidal/bounded_inertia", "direct_centroidal/inertia"):
+        assert controller_spec(name).needs_state == {"inertia_tilt"}, name
+    for name in ("direct_centroidal/no_inertia", "direct_centroidal/leaky", "hold+posture"):
+        assert not controller_spec(name).needs_state, name
+
+
+def test_refusal_names_the_estimators_that_would_do():
+    from bench.controllers import estimator_refusal
+
+    full = controller_spec("direct_centroidal")
+    assert estimator_refusal(full, "ground_truth") == (
+        "direct_centroidal cannot run with the estimator ground_truth: it reads inertia_tilt "
+        "(the tilt of the inertia's principal axes and its acceleration "
+        "(RobotState.inertia_tilt, Ficht & Behnke eqs. 12-15)), which only five_mass_kalman, "
+        "five_mass_kalman_com give"
+    )
+    assert estimator_refusal(full, "five_mass_kalman") is None
+    assert (
+        estimator_refusal(controller_spec("direct_centroidal/no_inertia"), "ground_truth") is None
+    )
+    # the scenario's refusal comes first, and without an estimator none is checked
+    assert refusal(full, "stand", "kinematic_inertial").startswith(
+        "direct_centroidal cannot run with the estimator kinematic_inertial"
+    )
+    assert refusal(full, "stand") is None
+
+
+def test_sweep_with_an_estimator_without_the_tilt_records_n_a_rows(tmp_path: Path, monkeypatch):
+    """`estimator = "ground_truth"` for every controller: the inertia-controlled rows are "n/a"
+    with the reason before any episode starts; the row without inertia control runs."""
+    log = tmp_path / "started.txt"
+    monkeypatch.setenv(_ORDER_ENV, str(log))
+    spec = spec_from_mapping(
+        {
+            "controllers": [*INERTIA_ROWS, "direct_centroidal/no_inertia"],
+            "sims": ["mujoco"],
+            "scenarios": ["stand"],
+            "duration": 0.3,
+            "estimator": "ground_truth",
+            "estimator_for_every_controller": True,
+        }
+    )
+    run_sweep(spec, tmp_path / "out", workers=1, progress=False, work=recording_work)
+    rows = read_episodes(tmp_path / "out").set_index("controller")
+    for name in INERTIA_ROWS:
+        assert rows.loc[name, "status"] == "n/a"
+        assert rows.loc[name, "error"].startswith(
+            f"n/a: {name} cannot run with the estimator ground_truth: it reads inertia_tilt"
+        )
+    assert rows.loc["direct_centroidal/no_inertia", "error"].endswith("not run: order test")
+    assert log.read_text().splitlines() == ["stand 0.3"]  # only the one without inertia control
+
+
+def test_run_refuses_an_estimator_without_the_tilt_with_one_line(capsys):
+    from bench.cli import main
+
+    argv = ["run", "--controller", "direct_centroidal", "--sim", "mujoco", "--scenario", "stand"]
+    assert main([*argv, "--estimator", "ground_truth"]) == 2
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1
+    assert "direct_centroidal cannot run with the estimator ground_truth" in err[0]

@@ -365,6 +365,13 @@ def test_list_shows_every_registry_and_marks_the_defaults():
         lines = sections[title]
         assert [line.split()[0] for line in lines] == list(registry.names())
         assert [line.split()[0] for line in lines if line.endswith("(default)")] == [default]
+    # what the estimators give beyond the common state, and who reads it
+    assert [
+        line.split()[0] for line in sections["estimators"] if "(gives: inertia_tilt)" in line
+    ] == [
+        "five_mass_kalman",
+        "five_mass_kalman_com",
+    ]
 
 
 @pytest.fixture
