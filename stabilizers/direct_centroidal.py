@@ -304,7 +304,11 @@ def flywheel_zmp(
 ) -> np.ndarray:
     """The flywheel model's ZMP [m] from eq. 7's estimate, which is its CMP (see the module):
     p = CMP - I theta'' / (m g) = CMP - scale theta'' h / g, scale = I / (m h) [m/rad],
-    theta'' [rad/s^2], h [m]. Ours: the paper leaves the theta'' term "hidden"."""
+    theta'' [rad/s^2], h [m]. Ours: the paper leaves the theta'' term "hidden". `cmp` must be
+    a CMP, as eq. 7's estimate of both estimators that give the tilt is: a force sensors' ZMP
+    already holds the flywheel's reaction, and through this it would be counted twice (as
+    the fifth session's simulator-state runs of 2026-12-02 did; docs/ficht-behnke.md, "Where
+    the inertia controller's loop closes")."""
     if theta_acceleration is None:
         return cmp
     return cmp - scale * theta_acceleration * (height / GRAVITY)
