@@ -148,7 +148,8 @@ survives 26 / 27 as `no_inertia` does, 0.02 26 / 25, 0.03 22 / 22; on one seed 0
 and 0.10 9 / 9 of 20 (2026-12-02, docs/ficht-behnke.md, "The inertia controller bounded")."""
 NO_TILT = (
     "direct_centroidal's inertia control (eqs. 12-15) needs the estimator's inertia tilt "
-    "(RobotState.inertia_tilt), which only five_mass_kalman and five_mass_kalman_com give"
+    "(RobotState.inertia_tilt), which this estimator does not give (`centrobench list` names "
+    "the estimators that give it)"
 )
 """The error of an inertia-controlled episode run with an estimator that gives no tilt (e.g.
 `ground_truth`): the controller would otherwise run without its inertia control, unseen.

@@ -127,7 +127,7 @@ def test_refusal_names_the_estimators_that_would_do():
     assert (
         estimator_refusal(controller_spec("direct_centroidal/no_inertia"), "ground_truth") is None
     )
-    # the scenario's refusal comes first, and without an estimator none is checked
+    # through `refusal` as well; without an estimator none is checked
     assert refusal(full, "stand", "kinematic_inertial").startswith(
         "direct_centroidal cannot run with the estimator kinematic_inertial"
     )
