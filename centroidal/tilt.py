@@ -21,6 +21,15 @@ def angles_of_axis(axis: np.ndarray) -> np.ndarray:
     return np.array([math.atan2(axis[0], axis[2]), math.atan2(axis[1], axis[2])])
 
 
+def flywheel_angles(inertia_axis_world: np.ndarray, pendulum_world: np.ndarray) -> np.ndarray:
+    """Eq. 13's flywheel angle theta_f [rad] (theta_x, theta_y): the projected angles of the
+    principal z axis of inertia less those of the pendulum, the line from the feet's midpoint
+    to the CoM (eq. 5's neutral tilt, where "the torque of a flywheel attached to a pendulum is
+    zero"). Both vectors in the world frame, with positive z components; neither need be unit.
+    """
+    return angles_of_axis(inertia_axis_world) - angles_of_axis(pendulum_world)
+
+
 def cross(a: np.ndarray, b: np.ndarray) -> np.ndarray:
     """a x b of two 3-vectors (numpy's `cross` costs about 20 us per call on 3-vectors)."""
     a0, a1, a2 = a.tolist()

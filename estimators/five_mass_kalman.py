@@ -46,7 +46,7 @@ import pinocchio as pin
 from scipy.linalg import solve_discrete_are
 
 from centroidal.kernels import relative_configuration
-from centroidal.tilt import angles_of_axis
+from centroidal.tilt import flywheel_angles
 from estimators.base import ComponentSpec, EstimatorBase, register
 from robots.five_mass import FiveMassModel
 from robots.model import RobotModel
@@ -156,7 +156,7 @@ class FiveMassKalmanEstimator(EstimatorBase):
         self.com_filter.reset(five.com_world[:2])
         soles = [self.data.oMf[f].translation for f in self.foot_frames]
         pendulum = five.com_world - (soles[0] + soles[1]) / 2
-        self.tilt_filter.reset(angles_of_axis(five.axes_world[:, 2]) - angles_of_axis(pendulum))
+        self.tilt_filter.reset(flywheel_angles(five.axes_world[:, 2], pendulum))
         self._relative_velocity: np.ndarray | None = None
 
     def follow(self, plan: CentroidalPlan) -> None:
@@ -225,7 +225,7 @@ class FiveMassKalmanEstimator(EstimatorBase):
             self._relative_velocity = relative.copy()
         state = self.com_filter.update(np.array([com[:2], trunk_acceleration[:2]]))
         pendulum = com_relative - (soles[0] + soles[1]) / 2  # feet's midpoint to CoM
-        flywheel = angles_of_axis(five.axes_world[:, 2]) - angles_of_axis(pendulum)
+        flywheel = flywheel_angles(five.axes_world[:, 2], pendulum)
         tilt = self.tilt_filter.update(flywheel[None])
         height = com[2] - (soles[self.support][2] + base_position[2])
         zmp = np.array(

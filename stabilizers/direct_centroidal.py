@@ -69,7 +69,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from centroidal.lipm import leaky_alpha, lipm_state
-from centroidal.tilt import angles_of_axis, axis_from_angles, tilt_rotation
+from centroidal.tilt import axis_from_angles, flywheel_angles, tilt_rotation
 from robots.five_mass import FiveMassModel
 from robots.model import RobotModel
 from robots.scene import Scenario
@@ -222,7 +222,7 @@ class DirectCentroidalStabilizer:
                 if options.inertia:
                     if state.inertia_tilt is None:
                         raise ValueError(NO_TILT)
-                    neutral = angles_of_axis(axes[:, 2]) - angles_of_axis(reference)
+                    neutral = flywheel_angles(axes[:, 2], reference)
                     axes_set = self._inertia(
                         com_target[:2],
                         p_ref,

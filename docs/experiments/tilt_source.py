@@ -26,7 +26,7 @@ import pinocchio as pin
 import wholebody.five_mass_pose as five_mass_pose
 from bench.controllers import controller_spec
 from bench.runner import EpisodeSpec, run_episode
-from centroidal.tilt import angles_of_axis
+from centroidal.tilt import flywheel_angles
 from estimators.base import ESTIMATORS, ComponentSpec
 from estimators.five_mass_kalman import FiveMassKalmanEstimator
 from estimators.ground_truth import GroundTruthEstimator
@@ -75,7 +75,7 @@ class Mixed(GroundTruthEstimator):
         feet = sum(self.pose_data.oMf[f].translation for f in self.kalman.foot_frames) / 2
         com = pin.centerOfMass(self.model, self.pose_data, q)
         axes = self.five.evaluate(q).axes_world
-        return angles_of_axis(axes[:, 2]) - angles_of_axis(com - feet)
+        return flywheel_angles(axes[:, 2], com - feet)
 
     def estimate(self, sensors):
         truth = super().estimate(sensors)
