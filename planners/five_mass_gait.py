@@ -12,17 +12,20 @@ step timing and publishes them in the plan (DESIGN.md, adaptive controllers).
   reference CoM is one continuous LIPM trajectory. Three footholds are kept: s[k-1], s[k] (the
   support), s[k+1].
 - Reference CoM (eq. 1): the LIPM about the support foot in closed form, advanced by the gait
-  phase's own clock (dt f~_g / f_g), so that step timing feedback slows or hurries the
-  reference with the steps.
+  phase's own clock (dt f~_g / f_g, `reference_time_step`, ours), so that step timing
+  feedback slows or hurries the reference with the steps.
 - Swing foot (eq. 4): (1 - mu) s[k-1] + mu s[k+1] in x, y and yaw, height s_h sin(mu pi).
 - Inertia reference (eq. 5): z_I along the vector from the feet's midpoint to the CoM, yaw
   along the step progression (1 - mu) s_psi[k] + mu s_psi[k+1].
 - Step timing (eq. 16): f~_g = f_g + K_t (y_eos - y_eos^ref), the lateral end-of-step errors
-  counted positive toward the swing leg (the paper's sign: an overshoot toward the swing leg
-  hurries the exchange, one toward the support leg slows it), limited to [0, 2 f_g] (the paper:
+  counted positive toward the swing leg (the sign of the paper's text, `timed_gait_frequency`:
+  an overshoot toward the swing leg hurries the exchange, one toward the support leg slows
+  it; eq. 16 as printed has it on the left support only), limited to [0, 2 f_g] (the paper:
   a 10 cm error "fully slow[s] down, or double[s] the gait progression").
 - Step size (eq. 17): the next foothold's forward distance is recomputed every period as
-  v_x / f_g - K_s (x_eos^ref - x_eos), K_s = 1, in the walk's frame.
+  v_x / f_g - K_s (x_eos^ref - x_eos), K_s = 1, in the walk's frame; at the exchange the
+  swing path and the reference CoM move with the step's adjustment (`carried_step_adjustment`,
+  ours).
 The end-of-step states come from eq. 1 over the remaining step time t_r = (1 - mu) / f_g with
 the ZMP at the support foot (the paper's "confining the ZMP to the support polygon"): the
 reference's from the reference state, the expected from the estimated CoM state.
@@ -33,8 +36,8 @@ reference CoM toward the support foot); the gait command's speed then rises at
 `GAIT_ACCELERATION_MPS2` (the first strides are fractions of eq. 3's, `stride_factors`, the
 walk takes as many steps as the commanded strides add up to, and a sideways walk's wide leading
 step takes its own and the trailing step's shares); after the last step, which closes
-the feet side by side, the reference CoM returns to the feet's midpoint critically damped with
-rate omega.
+the feet side by side (`closing_foothold`, without eq. 17), the reference CoM returns to the
+feet's midpoint critically damped with rate omega.
 Standing, before the walk, the reference CoM starts at the robot's own CoM and returns to the
 midpoint the same way (a robot's nominal CoM need not be above the midpoint: JVRC-1's is
 19.8 mm behind it). The number of commanded strides is the time of the fixed schedule's
@@ -93,10 +96,40 @@ def commanded_strides(steps: int, step_period_s: float, f_g_hz: float) -> int:
 
 def timed_gait_frequency(f_g_hz: float, k_t_hz_per_m: float, error_to_swing_m: float) -> float:
     """Eq. 16: f~_g = f_g + K_t e [Hz], e [m] the lateral end-of-step error counted positive
-    toward the swing leg, limited to [0, 2 f_g]: the paper's "a 10 cm error fully slow[s]
+    toward the swing leg (ours: eq. 16 is printed with e = y_eos^ref - y_eos for either support,
+    which is this on the left support and its opposite on the right; the sign here follows the
+    paper's text, "overshooting towards the swing leg will speed-up the step exchange"),
+    limited to [0, 2 f_g]: the paper's "a 10 cm error fully slow[s]
     down, or double[s] the gait progression" (K_t = 10 f_g per 0.1 m) read as the bounds of
     the phase rate (ours: the paper states the gain, not a limit)."""
     return min(max(f_g_hz + k_t_hz_per_m * error_to_swing_m, 0.0), 2 * f_g_hz)
+
+
+def reference_time_step(dt_s: float, f_tilde_hz: float, f_g_hz: float) -> float:
+    """The time [s] over which eq. 1's reference CoM advances in a period dt [s]: dt f~_g /
+    f_g, the reference on the gait phase's clock (ours: eq. 16's timing changes the phase rate
+    of eq. 2, "the rate of step progression", and the paper writes eq. 1 in elapsed time; on
+    the phase's clock the reference stays in step with the footholds when the timing feedback
+    slows or hurries a step)."""
+    return dt_s * f_tilde_hz / f_g_hz
+
+
+def closing_foothold(iota: float, step_width_m: float) -> tuple[float, float, float]:
+    """(x_s [m], y_s [m], psi_s [rad]) of the walk's closing step in the support's frame: beside
+    the support foot at the step width, no stride, no turn, and eq. 17's step size feedback off
+    for it (ours: the paper walks on a velocity command without an end; a closing step that eq.
+    17 moved would end the walk in a stride)."""
+    return 0.0, iota * step_width_m, 0.0
+
+
+def carried_step_adjustment(foothold_xy: np.ndarray, nominal_xy: np.ndarray) -> np.ndarray:
+    """The shift [m] (2,) that eq. 17 gave the step just taken (its foothold less eq. 3's
+    nominal one), by which the swing path and the reference CoM move at the exchange. Ours: eq.
+    17 sets only x_s[k+1]; the reference is eq. 1's LIPM in the support's frame, so it moves
+    with the step, and the path goes on from where the step was put (Kajita's refinement is
+    not carried: `next_path`). Measured in docs/ficht-behnke.md ("Eq. 17 from where the support
+    foot landed")."""
+    return foothold_xy - nominal_xy
 
 
 def foothold_adjustment_limit(step_width_m: float) -> float:
@@ -287,13 +320,18 @@ class FiveMassGaitPlanner:
             self.f_tilde = timed_gait_frequency(self.f_g, self.k_t, swing_side * error_path[1])
         else:
             self.f_tilde = self.f_g
-        if self.options.step_size and self.steps_done < self.n_steps - 1:  # eq. 17
+        closing = self.steps_done >= self.n_steps - 1  # `closing_foothold`: eq. 17 off
+        if self.options.step_size and not closing:  # eq. 17
             forward = rotation @ np.array([STEP_SIZE_GAIN * error_path[0], 0.0])
             self.next.position[:2] = self.next_nominal.position[:2] + forward
         self.mu += self.f_tilde * self.dt
         # the reference advances on the gait phase's clock
         self.com_ref, self.velocity_ref = lipm_state(
-            self.com_ref, self.velocity_ref, support, self.omega, self.dt * self.f_tilde / self.f_g
+            self.com_ref,
+            self.velocity_ref,
+            support,
+            self.omega,
+            reference_time_step(self.dt, self.f_tilde, self.f_g),
         )
         if self.mu >= 1.0:
             self._exchange(t)
@@ -305,10 +343,7 @@ class FiveMassGaitPlanner:
         swing = self._swing()
         self.previous = self._copy(self.feet[self.support])
         self.feet[swing] = self._copy(self.next)
-        # eq. 17 sets the step's distance from the support foot, and the reference is the
-        # LIPM in the support's frame: the path goes on from where the step was put and the
-        # reference moves with it, by the adjustment (Kajita's refinement is not: `next_path`)
-        adjustment = self.next.position[:2] - self.next_nominal.position[:2]
+        adjustment = carried_step_adjustment(self.next.position[:2], self.next_nominal.position[:2])
         self.path[swing] = self._copy(self.next_path)
         self.path[swing].position[:2] += adjustment
         self.com_ref = self.com_ref + adjustment
@@ -355,7 +390,7 @@ class FiveMassGaitPlanner:
         v_x, v_y = factor * self.velocity_command
         yaw_rate = factor * self.yaw_rate_command
         if closing:
-            x_s, y_s, psi_s = 0.0, iota * self.step_width, 0.0
+            x_s, y_s, psi_s = closing_foothold(iota, self.step_width)
         else:
             # the sideways step covers its own and the trailing step's share of the command
             # (2 v_y / f_g at full stride; the closing step has none), so that the walk's

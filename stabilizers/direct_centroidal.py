@@ -29,7 +29,8 @@ I theta_f'' / (m h), but eq. 7's estimate x - x''/omega^2 is then the CMP, p + I
 (m g). We take p = CMP - I theta_f'' / (m g), theta_f'' from the estimator's tilt filter
 (`RobotState.inertia_tilt_acceleration`), so that p~ = x~ - x~''/omega^2 with x~'' = x'' +
 I theta_f'' / (m h), eq. 13's own LIPM form. The paper says the theta'' term "gets hidden within
-x~''" and does not estimate it. Measured (MuJoCo, `stand`, Choi's gains, bent knees): the full
+x~''" and does not use it in eqs. 13-15 (its second Kalman filter, Sec. 3.2, does estimate
+theta''). Measured (MuJoCo, `stand`, Choi's gains, bent knees): the full
 method falls after 0.18 s with the CMP and 0.6 s with the ZMP (0.66 / 0.39 s MuJoCo / PyBullet
 with the straight-leg layer); it stood 3 s only with the bent-knee layer and the inertia loop's
 gains at 0.1 K_zmp and 0.3 K_com (issue 17's note).
@@ -89,16 +90,18 @@ def choi_gains(
     omega: float, k_com_per_omega: float = K_COM_PER_OMEGA, k_zmp_per_omega: float = K_ZMP_PER_OMEGA
 ) -> tuple[float, float]:
     """(K_com, K_zmp) [1/s] inside Choi et al.'s condition K_com > omega > K_zmp > 0: the
-    paper sets them "according to [5], but with quite high gains due to the leaky integration"
-    without numbers, tuned as its Table 1 says "to achieve the best possible performance". By
-    default we take K_com = 2 omega and K_zmp = omega / 2 (the middle of each range on a log
-    scale between omega / 4 and 4 omega), for the augmented CoM too. Other ratios inside the
-    condition are `FeedbackOptions`'. Measured at 1.5 omega and 0.8 omega (2026-12-02,
-    docs/ficht-behnke.md, not the default): `no_inertia` survives 20 / 20 of the 20 standing
-    pushes at 0.35 m/s in both simulators instead of 13 / 20 (19-20 against 13-14 on another
-    seed's), and on JVRC-1 with a perfect state `bent_no_inertia` walks; but on JVRC-1 with its
-    own filter it no longer stands (falls at 3.10 / 1.19 s, MuJoCo / PyBullet; it stands 10 s
-    at the default). ValueError outside the condition."""
+        paper sets them "according to [5], but with quite high gains due to the leaky integration"
+        without numbers, tuned as its Table 1 says "to achieve the best possible performance". By
+        default we take K_com = 2 omega and K_zmp = omega / 2 (the middle of each range on a log
+        scale between omega / 4 and 4 omega), for the augmented CoM too (ours: the paper names
+    K_zmp^aug and K_com^aug apart, Sec. 4, without numbers), whose eq. 14 takes Choi's sign
+    -K_zmp^aug as eq. 8 does (printed +K_zmp^aug; the module). Other ratios inside the
+        condition are `FeedbackOptions`'. Measured at 1.5 omega and 0.8 omega (2026-12-02,
+        docs/ficht-behnke.md, not the default): `no_inertia` survives 20 / 20 of the 20 standing
+        pushes at 0.35 m/s in both simulators instead of 13 / 20 (19-20 against 13-14 on another
+        seed's), and on JVRC-1 with a perfect state `bent_no_inertia` walks; but on JVRC-1 with its
+        own filter it no longer stands (falls at 3.10 / 1.19 s, MuJoCo / PyBullet; it stands 10 s
+        at the default). ValueError outside the condition."""
     if not k_com_per_omega > 1.0 > k_zmp_per_omega > 0.0:
         raise ValueError(
             "Choi's condition K_com > omega > K_zmp > 0 needs k_com_per_omega > 1 > "
@@ -206,19 +209,14 @@ class DirectCentroidalStabilizer:
             if options.extended:
                 control += VELOCITY_GAIN * (v_ref - v)  # eq. 10
                 remaining = plan.step_remaining_s
-                if remaining is not None:
-                    eos_ref = lipm_state(x_ref, v_ref, p_ref, omega, remaining)[0]
-                    eos = lipm_state(x, v, p_ref, omega, remaining)[0]
-                    control += EOS_GAIN_RATIO * k_com * (eos_ref - eos)
+                if remaining is not None:  # else `end_of_step_term`: none
+                    control += end_of_step_term(x_ref, v_ref, x, v, p_ref, omega, remaining, k_com)
             self.x_i = control * self.dt + (1.0 - self.alpha) * self.x_i  # eq. 9
             com_target[:2] = x_ref + self.x_i
             if axes is not None:
                 feet = plan.limb_target_position_world[self.feet].mean(axis=0)
                 reference = _unit(plan.com_planned_world - feet)
-                moved = _unit(com_target - feet)
-                # eq. 5 for the set CoM (the generator's feet are relative to it): the reference
-                # axes turned with the feet-to-CoM line
-                axes_set = tilt_rotation(moved) @ tilt_rotation(reference).T @ axes
+                axes_set = axes_for_set_com(axes, reference, _unit(com_target - feet))
                 if options.inertia:
                     if state.inertia_tilt is None:
                         raise ValueError(NO_TILT)
@@ -286,6 +284,40 @@ class DirectCentroidalStabilizer:
             theta_set = self.theta_lagged
         rotation = tilt_rotation(axis_from_angles(theta_set[0], theta_set[1]))
         return rotation @ axes_ref  # eq. 12
+
+
+def end_of_step_term(
+    x_ref: np.ndarray,
+    v_ref: np.ndarray,
+    x: np.ndarray,
+    v: np.ndarray,
+    p_ref: np.ndarray,
+    omega: float,
+    remaining_s: float,
+    k_com: float,
+) -> np.ndarray:
+    """Eq. 10's x'_eos = K_eos (x_eos^ref - x_eos) [m/s], K_eos = 0.5 K_com (Sec. 4): the
+    end-of-step CoM positions by eq. 1 over the remaining step time t_r [s] with the ZMP at the
+    reference ZMP, the reference's from (x_ref, v_ref) and the expected one from the estimate
+    (x, v). Ours: while no step is under way (standing, the start's weight shift, after the
+    closing step: the plan's `step_remaining_s` is None) the term is left out, as the paper
+    defines t_r = (1 - mu) / f_g only for a step."""
+    eos_ref = lipm_state(x_ref, v_ref, p_ref, omega, remaining_s)[0]
+    eos = lipm_state(x, v, p_ref, omega, remaining_s)[0]
+    return EOS_GAIN_RATIO * k_com * (eos_ref - eos)
+
+
+def axes_for_set_com(
+    axes_reference_world: np.ndarray, pendulum_reference: np.ndarray, pendulum_set: np.ndarray
+) -> np.ndarray:
+    """R_I^ref of eq. 12 for the set CoM [3x3]: eq. 5 places z_I along the line from the
+    feet's midpoint to the CoM, and the pose generator's feet are relative to the CoM it is
+    given, so the reference axes are turned with that line from the reference CoM's direction
+    to the set CoM's (unit vectors, world frame). Ours: the paper writes eq. 5 for the
+    reference CoM and R_I^set = R_c R_I^ref (eq. 12) without saying which CoM the neutral tilt
+    follows once eq. 9 moves it; this applies in every closed-loop row with inertia axes, also
+    those without the inertia controller (R_c = I)."""
+    return tilt_rotation(pendulum_set) @ tilt_rotation(pendulum_reference).T @ axes_reference_world
 
 
 def measured_or_reference_zmp(zmp: np.ndarray, zmp_reference: np.ndarray) -> np.ndarray:

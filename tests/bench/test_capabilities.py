@@ -97,9 +97,9 @@ INERTIA_ROWS = ("direct_centroidal", "direct_centroidal/lagged_inertia")
 
 
 def test_inertia_controlled_rows_read_the_tilt_that_only_the_five_mass_estimators_give():
-    """Eqs. 12-15 feed back the inertia axes' tilt, which only Ficht & Behnke's filter
-    (Sec. 3.2's second filter) estimates; the rows without inertia control read nothing more
-    than any estimator gives."""
+    """Eqs. 12-15 feed back the inertia axes' tilt, which only the five-mass filters estimate
+    (Ficht & Behnke's, Sec. 3.2's second filter, and ours, `five_mass_kalman_com`); the rows
+    without inertia control read nothing more than any estimator gives."""
     from estimators.base import ESTIMATORS
 
     gives = {n: ESTIMATORS.get(n).gives for n in ESTIMATORS.names()}

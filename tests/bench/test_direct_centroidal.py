@@ -47,9 +47,16 @@ def test_it_walks_the_walk(walks, sim):
     # 2026-12-01 the record counted each: 28 / 27 steps, MuJoCo / PyBullet)
     assert len(landed) == 18
     assert summary["distance_walked_m"] == pytest.approx(1.125, abs=0.1)
-    # its swing leg sags under the position servos: the feet land early on average (measured
-    # -30 / -28 ms in MuJoCo / PyBullet over its 18 touchdowns, 2026-12-01)
-    assert summary["touchdown_time_error_mean_s"] < 0.0
+
+
+@pytest.mark.xfail(
+    strict=True,
+    reason="its swing leg sags under the position servos: the feet land early, -30 / -28 ms on "
+    "average over its 18 touchdowns (MuJoCo / PyBullet, 2026-12-01; issue 15)",
+)
+@pytest.mark.parametrize("sim", SIMS)
+def test_its_feet_land_within_one_period_of_the_plan_on_average(walks, sim):
+    assert abs(walks[sim].summary["touchdown_time_error_mean_s"]) < 0.002
 
 
 @pytest.mark.xfail(
@@ -115,12 +122,25 @@ def test_it_stands_on_jvrc1_whose_com_is_off_the_feet_midpoint(sim):
     assert error.max() < 0.005
 
 
-def test_its_open_loop_row_walks_jvrc1_in_mujoco():
+@pytest.mark.parametrize(
+    "sim",
+    [
+        "mujoco",
+        pytest.param(
+            "pybullet",
+            marks=pytest.mark.xfail(
+                strict=True, reason="in PyBullet the open-loop row falls at 5.98 s (2026-12-02)"
+            ),
+        ),
+    ],
+)
+def test_its_open_loop_row_walks_jvrc1(sim):
     """On JVRC-1 the feedback, not the gait, is what falls: Table 1's open-loop row (fixed
     stepping, no feedback, bent knees) walks `walk` in MuJoCo (6.2 cm from the goal,
-    2026-12-02; in PyBullet it falls at 5.98 s), while each feedback alone fells it in the
-    first steps (docs/ficht-behnke.md, "Why the five-mass rows fall on JVRC-1")."""
-    summary = _run("direct_centroidal/open_loop", "mujoco", "walk", robot="jvrc1").summary
+    2026-12-02; in PyBullet it falls at 5.98 s, a strict xfail), while each feedback alone
+    fells it in the first steps (docs/ficht-behnke.md, "Why the five-mass rows fall on
+    JVRC-1")."""
+    summary = _run("direct_centroidal/open_loop", sim, "walk", robot="jvrc1").summary
     assert summary["status"] == "ok"
     assert summary["distance_walked_m"] > 1.0
 

@@ -128,9 +128,16 @@ def test_kinematic_inertial_holds_the_base_when_no_limb_carries_weight(model):
 @pytest.mark.parametrize("sim_name", ["mujoco", "pybullet"])
 def test_five_mass_kalman_zmp_agrees_with_the_force_sensors_on_a_standing_robot(model, sim_name):
     """Ficht & Behnke eq. 7 from the IMU and encoders only, against the ZMP of the feet's
-    force sensors (`ground_truth` estimator): within 2 mm after 0.5 s of settling (measured
-    0.1 mm in MuJoCo), and the CoM within 5 mm of the ground truth's."""
+    force sensors (`ground_truth` estimator): within 0.5 mm after 0.5 s of settling (measured
+    0.010 / 0.043 mm, MuJoCo / PyBullet; standing, eq. 7's acceleration term is near zero, so
+    this checks its CoM and frames, the walks check the rest), and the CoM within 5 mm of the
+    ground truth's; the tilt filter's flywheel angle within 1 mrad (half its measurement
+    noise) of eq. 13's at the true configuration."""
+    import pinocchio as pin
+
+    from centroidal.tilt import flywheel_angles
     from estimators.five_mass_kalman import FiveMassKalmanEstimator
+    from robots.five_mass import FiveMassModel
 
     initial = model.standing_state()
     command = model.hold_command(initial)
@@ -148,10 +155,15 @@ def test_five_mass_kalman_zmp_agrees_with_the_force_sensors_on_a_standing_robot(
             com_error.append(np.linalg.norm(a.com_position_world - b.com_position_world))
     finally:
         sim.close()
-    assert max(zmp_gap[250:]) < 0.002
+    assert max(zmp_gap[250:]) < 0.0005
     assert max(com_error) < 0.005
-    assert b.inertia_tilt is not None
-    assert np.all(np.isfinite(b.inertia_tilt))
+    q = model.configuration(a)
+    five = FiveMassModel(model).evaluate(q)
+    data = model.model.createData()
+    pin.framesForwardKinematics(model.model, data, q)
+    feet = sum(data.oMf[f].translation for f in kalman.foot_frames) / 2
+    true_tilt = flywheel_angles(five.axes_world[:, 2], five.com_world - feet)
+    assert np.abs(b.inertia_tilt - true_tilt).max() < 0.001
     # standing still, the flywheel neither turns nor accelerates (the tilt filter's states)
     assert np.abs(b.inertia_tilt_rate).max() < 1e-3
     assert np.abs(b.inertia_tilt_acceleration).max() < 1e-2

@@ -7,6 +7,7 @@ import numpy as np
 import pytest
 
 from bench.scenarios import make_scenario, walk
+from centroidal.lipm import gait_frequency, timing_gain
 from planners.five_mass_gait import (
     GAIT_ACCELERATION_MPS2,
     FiveMassGaitPlanner,
@@ -158,7 +159,9 @@ def test_eq_17_sets_the_steps_distance_from_where_the_support_foot_is(model):
     pushed = np.array(_landings(model, 0.01, 6))
     assert len(nominal) == len(pushed)
     adjustment = pushed[7, 0] - nominal[7, 0]  # step 7 was planned during step 6
-    assert adjustment > 0.005  # the lead lengthened it (measured 1.0 cm)
+    # eq. 17 with K_s = 1: the lead held to the exchange, where t_r -> 0 and eq. 1's end-of-step
+    # error is the lead itself, lengthens the step by K_s x 1 cm
+    assert adjustment == pytest.approx(1.0 * 0.01, abs=1e-4)  # K_s = 1, the paper's (Sec. 4)
     np.testing.assert_allclose(pushed[:7], nominal[:7], atol=1e-12)
     lengths, pushed_lengths = np.diff(nominal[:, 0]), np.diff(pushed[:, 0])
     np.testing.assert_allclose(pushed_lengths[7:], lengths[7:], atol=1e-3)
@@ -265,17 +268,21 @@ def test_the_heading_is_continuous_when_the_feet_are_yawed_apart():
     assert np.abs(np.diff(heading)).max() < 1e-3
 
 
-@pytest.mark.parametrize("f_g", [2.6, 1.98])
-def test_eq_16_a_10_cm_lateral_error_fully_slows_or_doubles_the_gait_at_the_papers_gain(f_g):
+@pytest.mark.parametrize("height", [0.9, 1.56])
+def test_eq_16_a_10_cm_lateral_error_fully_slows_or_doubles_the_gait_at_the_papers_gain(height):
     """Sec. 4: K_t = 10 f_g makes "a 10 cm EOS error in the lateral plane fully slow down, or
-    double the gait progression"; larger errors change it no further (the bounds, ours)."""
-    k_t = 10 * f_g / 1.0  # per metre: 10 f_g for 0.1 m is a change of f_g
+    double the gait progression": on the paper's 0.9 m robot at its 2.6 Hz, and on our 1.56 m
+    humanoid at its Froude-similar f_g and K_t (`timing_gain`), where the same relative error
+    is 0.1 m x 1.56 / 0.9; larger errors change it no further (the bounds, ours)."""
+    f_g = gait_frequency(height)
+    k_t = timing_gain(f_g, height)
+    full = 0.1 * height / 0.9  # [m] the error that doubles or stops the progression
     assert timed_gait_frequency(f_g, k_t, 0.0) == f_g
-    assert timed_gait_frequency(f_g, k_t, 0.1) == pytest.approx(2 * f_g, rel=1e-12)
-    assert timed_gait_frequency(f_g, k_t, -0.1) == pytest.approx(0.0, abs=1e-12)
-    assert timed_gait_frequency(f_g, k_t, 0.5) == 2 * f_g
-    assert timed_gait_frequency(f_g, k_t, -0.5) == 0.0
-    assert timed_gait_frequency(f_g, k_t, 0.05) == pytest.approx(1.5 * f_g, rel=1e-12)
+    assert timed_gait_frequency(f_g, k_t, full) == pytest.approx(2 * f_g, rel=1e-12)
+    assert timed_gait_frequency(f_g, k_t, -full) == pytest.approx(0.0, abs=1e-12)
+    assert timed_gait_frequency(f_g, k_t, 5 * full) == 2 * f_g
+    assert timed_gait_frequency(f_g, k_t, -5 * full) == 0.0
+    assert timed_gait_frequency(f_g, k_t, full / 2) == pytest.approx(1.5 * f_g, rel=1e-12)
 
 
 def test_a_walk_commands_one_stride_per_step_period_of_the_fixed_schedule():
@@ -289,8 +296,22 @@ def test_a_walk_commands_one_stride_per_step_period_of_the_fixed_schedule():
 
 def test_a_refined_foothold_moves_at_most_half_the_step_width_so_the_feet_never_cross():
     """Two footholds a step width w apart, each moved toward the other by the limit, meet at
-    most: they do not cross."""
+    most: they do not cross, and the limit is the largest for which that holds."""
     for width in (0.18, 0.2):
         limit = foothold_adjustment_limit(width)
-        assert (width / 2 - limit) - (-width / 2 + limit) >= 0.0
-        assert limit == width / 2
+        gap = (width / 2 - limit) - (-width / 2 + limit)
+        assert gap == pytest.approx(0.0, abs=1e-15)
+
+
+def test_the_closing_step_lands_beside_the_support_foot_whatever_eq_17_asks(model):
+    """`closing_foothold`: the walk's last step closes the feet side by side at the step width
+    and eq. 17 does not move it, so a 1 cm lead during that step (which lengthens any other
+    step by about 1 cm: the test above) leaves every landing where it was."""
+    planner, _ = _start(model, make_scenario("walk", model))
+    last = planner.n_steps - 1
+    nominal = np.array(_landings(model, 0.0, last))
+    pushed = np.array(_landings(model, 0.01, last))
+    np.testing.assert_allclose(pushed, nominal, atol=1e-12)
+    closing, support = nominal[-1], nominal[-2]
+    assert closing[0] == pytest.approx(support[0], abs=1e-9)  # side by side
+    assert abs(closing[1] - support[1]) == pytest.approx(planner.step_width, abs=1e-9)

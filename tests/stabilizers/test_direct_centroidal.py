@@ -1,5 +1,6 @@
-"""The inertia controller's ZMP (Ficht & Behnke eq. 13): eq. 7's estimate is the CMP of the
-flywheel model; `flywheel_zmp` recovers the ZMP from it and the flywheel's acceleration."""
+"""Ficht & Behnke's stabilizer: the CoM controller's eqs. 8-9 for a period; the inertia
+controller's ZMP (eq. 13: eq. 7's estimate is the CMP of the flywheel model; `flywheel_zmp`
+recovers the ZMP from it and the flywheel's acceleration) and its loop."""
 
 import math
 
@@ -209,3 +210,112 @@ def test_the_gain_ratios_set_both_controllers_gains():
     omega = math.sqrt(GRAVITY / 0.8)
     assert choi_gains(omega) == pytest.approx((2.0 * omega, 0.5 * omega), rel=1e-12)
     assert choi_gains(omega, 1.5, 0.8) == pytest.approx((1.5 * omega, 0.8 * omega), rel=1e-12)
+
+
+def _standing(options):
+    """A standing plan of `five_mass_gait` on the humanoid, the stabilizer reset on it, and a
+    state on the plan's reference (CoM, its velocity and the ZMP)."""
+    from dataclasses import replace
+
+    from bench.scenarios import make_scenario
+    from planners.five_mass_gait import FiveMassGaitPlanner
+    from robots.humanoid import humanoid
+    from robots.model import RobotModel
+    from stabilizers.direct_centroidal import DirectCentroidalStabilizer
+
+    model = RobotModel(humanoid())
+    scenario = make_scenario("stand", model)
+    state = model.standing_state()
+    state = replace(
+        state, com_position_world=model.com_position_world(state), com_velocity_world=np.zeros(3)
+    )
+    planner = FiveMassGaitPlanner(0.002)
+    planner.reset(model, scenario, state)
+    plan = planner.plan(0.0, state)
+    stabilizer = DirectCentroidalStabilizer(0.002, options)
+    stabilizer.reset(model, scenario, state)
+    on_plan = replace(
+        state,
+        com_position_world=plan.com_planned_world.copy(),
+        com_velocity_world=plan.com_velocity_planned_world.copy(),
+        zmp_world=plan.zmp_planned_world.copy(),
+    )
+    return plan, stabilizer, on_plan
+
+
+def test_eqs_8_9_move_the_set_com_toward_the_zmp_and_the_reference_by_chois_gains():
+    """Eqs. 8-9 for one period from x_i = 0: the ZMP 1 cm ahead of p_ref moves the set CoM
+    forward by K_zmp x 1 cm x dt (Choi's sign, the module; the paper prints +K_zmp, which
+    would move it back), the CoM 1 cm behind x_ref moves it forward by K_com x 1 cm x dt,
+    with (K_com, K_zmp) = (2 omega, omega / 2); on the reference it stays."""
+    from dataclasses import replace
+
+    from stabilizers.direct_centroidal import FeedbackOptions
+
+    options = FeedbackOptions(extended=False, inertia=False)
+    plan, _, on_plan = _standing(options)
+    height = plan.com_planned_world[2] - plan.zmp_planned_world[2]
+    omega = math.sqrt(GRAVITY / height)
+    dt, step = 0.002, np.array([0.01, 0.0, 0.0])
+    zmp_ahead = replace(on_plan, zmp_world=on_plan.zmp_world + step)
+    com_behind = replace(on_plan, com_position_world=on_plan.com_position_world - step)
+    cases = [
+        (on_plan, 0.0),
+        (zmp_ahead, 0.5 * omega * 0.01 * dt),
+        (com_behind, 2 * omega * 0.01 * dt),
+    ]
+    for state, forward in cases:
+        _, stabilizer, _ = _standing(options)
+        target = stabilizer.stabilize(0.0, plan, state).com_position_world
+        moved = target[:2] - plan.com_planned_world[:2]
+        assert moved == pytest.approx([forward, 0.0], abs=1e-12)
+
+
+def test_eq_9_leaks_the_integral_at_the_papers_half_life():
+    """Eq. 9 with no error after a 1 cm ZMP offset for one period: x_i decays by (1 - alpha)
+    per period, to half in 0.228 s (the paper's alpha = 0.03 at 100 Hz, `leaky_alpha`)."""
+    from dataclasses import replace
+
+    from stabilizers.direct_centroidal import FeedbackOptions
+
+    plan, stabilizer, on_plan = _standing(FeedbackOptions(extended=False, inertia=False))
+    pushed = replace(on_plan, zmp_world=on_plan.zmp_world + np.array([0.01, 0.0, 0.0]))
+    first = stabilizer.stabilize(0.0, plan, pushed).com_position_world[0]
+    first -= plan.com_planned_world[0]
+    half_life = math.log(0.5) / (100 * math.log(0.97))  # [s] the paper's alpha at 100 Hz
+    periods = round(half_life / 0.002)
+    for _ in range(periods):
+        last = stabilizer.stabilize(0.0, plan, on_plan).com_position_world[0]
+    assert (last - plan.com_planned_world[0]) / first == pytest.approx(0.5, abs=0.01)
+
+
+def test_eq_10s_end_of_step_term_is_k_eos_times_the_lipm_offset_at_the_step_end():
+    """x'_eos = 0.5 K_com (x_eos^ref - x_eos) (eq. 10, K_eos of Sec. 4): eq. 1 carries a CoM
+    offset d of the estimate at equal velocity to d cosh(omega t_r) at the step's end, so a
+    CoM 1 cm behind the reference asks 0.5 K_com x 1 cm x cosh(omega t_r) forward; on the
+    reference, nothing."""
+    from stabilizers.direct_centroidal import end_of_step_term
+
+    omega, k_com, t_r = 3.5, 7.0, 0.2
+    x_ref, v_ref, p_ref = np.array([0.0, 0.05]), np.array([0.1, -0.02]), np.array([0.02, 0.09])
+    term = end_of_step_term(x_ref, v_ref, x_ref - [0.01, 0.0], v_ref, p_ref, omega, t_r, k_com)
+    expected = 0.5 * k_com * 0.01 * math.cosh(omega * t_r)
+    assert term == pytest.approx([expected, 0.0], abs=1e-12)
+    on = end_of_step_term(x_ref, v_ref, x_ref, v_ref, p_ref, omega, t_r, k_com)
+    assert on == pytest.approx([0.0, 0.0], abs=1e-15)
+
+
+def test_the_reference_axes_follow_the_pendulum_to_the_set_com():
+    """`axes_for_set_com`: reference axes whose z lies along the reference pendulum are turned
+    onto the set CoM's pendulum and stay a rotation; with the set CoM on the reference they are
+    unchanged."""
+    from centroidal.tilt import axis_from_angles, tilt_rotation
+    from stabilizers.direct_centroidal import axes_for_set_com
+
+    reference = axis_from_angles(0.05, 0.01)
+    axes = tilt_rotation(reference) @ tilt_rotation(np.array([0.0, 0.0, 1.0]))
+    moved = axis_from_angles(0.08, -0.02)
+    turned = axes_for_set_com(axes, reference, moved)
+    np.testing.assert_allclose(turned[:, 2], moved, atol=1e-12)
+    np.testing.assert_allclose(turned.T @ turned, np.eye(3), atol=1e-12)
+    np.testing.assert_allclose(axes_for_set_com(axes, reference, reference), axes, atol=1e-12)

@@ -150,7 +150,18 @@ def _tilted_pose(straight_leg: bool, single_support: bool, tilt_axis: np.ndarray
         (False, False, 1, 2.6, 0.2),
         (True, True, 0, 3.0, 0.2),
         (True, True, 1, 2.6, 0.2),
-        (True, False, 0, 0.3, 3.0),
+        pytest.param(
+            True,
+            False,
+            0,
+            3.0,
+            0.2,
+            marks=pytest.mark.xfail(
+                strict=True,
+                reason="with both knees straight in double support the trunk can hardly roll: "
+                "the base rolls 0.46 rad per rad of set tilt and an arm joint moves 2.1 (measured)",
+            ),
+        ),
     ],
     ids=[
         "bent-double-support-lateral",
@@ -169,10 +180,10 @@ def test_the_trunk_realises_the_inertia_tilt_and_the_arms_stay(
     the trunk's share of the system inertia is about a third), and no arm joint moves by
     `arm_most` times the tilt (measured 0.09 at most). With both knees held straight in a
     double support the trunk can hardly roll (the hips' heights are fixed): the base rolls
-    0.46 rad per rad and an arm joint still moves 2.1. With the arms held by the plain posture
-    task only (before 2026-12-01) every case fails: a shoulder roll moved 1.4, 5.9 and 18 rad
-    per rad laterally (bent, single support, straight double support; the base 2.88, 2.20,
-    0.05), a shoulder pitch 0.4 sagittally (the base 2.59, 2.54)."""
+    0.46 rad per rad and an arm joint still moves 2.1 (a strict xfail). With the arms held by
+    the plain posture task only (before 2026-12-01) every case fails: a shoulder roll moved
+    1.4, 5.9 and 18 rad per rad laterally (bent, single support, straight double support; the
+    base 2.88, 2.20, 0.05), a shoulder pitch 0.4 sagittally (the base 2.59, 2.54)."""
     tilt_axis = np.eye(3)[axis]
     base, untilted, tilted, arms = _tilted_pose(straight_leg, single_support, tilt_axis)
     assert base[axis] / 0.02 > base_least
