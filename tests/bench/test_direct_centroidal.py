@@ -100,6 +100,8 @@ def test_a_15_ns_walking_push_to_the_left_is_survived_by_stepping_elsewhere(walk
     push_time = make_scenario("walk_push", cached_model(humanoid())).pushes[0].time
     after = pushed[sim].footsteps[pushed[sim].footsteps["touchdown_time_s"] > push_time]
     before = walks[sim].footsteps[walks[sim].footsteps["touchdown_time_s"] > push_time]
+    # the same steps before the push, so that the k-th step after it is the same step of both
+    assert len(pushed[sim].footsteps) - len(after) == len(walks[sim].footsteps) - len(before)
     count = min(len(after), len(before), 4)
     moved = np.hypot(
         after["x_m"].to_numpy()[:count] - before["x_m"].to_numpy()[:count],
