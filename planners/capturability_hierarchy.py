@@ -72,7 +72,12 @@ STEP_WIDTH_EXTRA_M = (-0.05, 0.2)  # lateral: the standing width -0.05 ... +0.2 
 # squared residual of rows scaled so that the block's largest row has unit norm (`_Rows.add`;
 # the velocity objective: every row), so it compares residuals in units of that row, not in
 # the physical units of the task.
+# Eq. 19 "is used for two purposes: damping (Kd > 0, Kp = 0) and maintaining reference
+# configuration q'_ref (Kd > 0, Kp > 0)": ours is one objective, the second (which damps too),
+# on every joint.
 POSTURE_KP, POSTURE_KD, POSTURE_WEIGHT = 10.0, 2 * math.sqrt(10.0), 1e-3  # eq. 19 [1/s^2, 1/s]
+# eq. 18 on the robot's base link (`RobotDescription.base_link`): the humanoid's torso, but
+# JVRC-1's pelvis, below its waist joints (its chest is then free)
 TORSO_KP, TORSO_KD, TORSO_WEIGHT = 100.0, 20.0, 1.0  # eq. 18
 HAND_KP, HAND_KD, HAND_ERROR_MAX, HAND_WEIGHT = 10.0, 3.0, 0.05, 10.0  # eq. 17 (m: saturation)
 COP_WEIGHT = 1e5  # eq. 21 (see below)
@@ -124,6 +129,21 @@ def torsional_friction(friction: float, half_extents: tuple[float, float]) -> fl
     (a square's mean distance is 0.765 a, this gives 0.667 a; ours)."""
     a, b = half_extents
     return friction * (a + b) / 3.0
+
+
+def weight_shift_support(
+    anchor: np.ndarray,
+    foot_box: tuple[np.ndarray, np.ndarray],
+    both_feet_box: tuple[np.ndarray, np.ndarray],
+    lifted_off: bool,
+) -> tuple[np.ndarray, tuple[np.ndarray, np.ndarray]]:
+    """(eq. 21's centring target [m], eq. 11's CoP box about it) for a preview sample in the
+    support before a walk's first step. Ours: the paper's robot walks from its first sample, and
+    eq. 21 centres the CoP on "the center of the footsteps"; standing on both feet before the
+    first lift-off, the CoP may range over the box about both feet (`both_feet_box`, about
+    the first stance foot `anchor`) while eq. 21 pulls it to the first stance foot (the
+    weight shift); from the lift-off on, the stance foot's own box (`foot_box`)."""
+    return (anchor, foot_box) if lifted_off else (anchor, both_feet_box)
 
 
 def friction_pyramid(friction: float) -> np.ndarray:
@@ -670,12 +690,10 @@ class CapturabilityHierarchyPlanner:
         lows, highs = np.empty((lay.samples, 2)), np.empty((lay.samples, 2))
         for k in range(lay.samples):
             centre, bounds = (current, box) if footholds[k] == 0 else (anchor, foot_box)
-            if starting and footholds[k] == 0:
-                # before the first step: on both feet, centred on the first stance foot (the
-                # weight shift); after its lift-off, on the stance foot alone
+            if starting and footholds[k] == 0:  # before the first step: the weight shift
                 sample = self._t + pre.first_s + k * self.period_s
                 lift_off = sample >= self.schedule.walk_start - 1e-9
-                centre, bounds = (anchor, foot_box) if lift_off else (anchor, box_about(anchor))
+                centre, bounds = weight_shift_support(anchor, foot_box, box_about(anchor), lift_off)
             centres[k] = centre
             lows[k], highs[k] = bounds[0] + centre, bounds[1] + centre
         for axis in range(2):
