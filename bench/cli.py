@@ -309,9 +309,7 @@ def build_parser() -> argparse.ArgumentParser:
     )
     run.add_argument("--planner", default=None, help="a planner name")
     run.add_argument("--stabilizer", default=None, help="a stabilizer name")
-    run.add_argument(
-        "--whole-body", default=None, help="a whole-body layer name (default ik_feedforward)"
-    )
+    run.add_argument("--whole-body", default=None, help="a whole-body layer name (default ik)")
     run.add_argument("--sim", required=True, type=_one_simulator, help="mujoco or pybullet")
     run.add_argument("--scenario", required=True, help="a scenario name")
     _add_robot(run)

@@ -2,7 +2,8 @@
 
 A contact surface is a polygon in its contact frame (z axis = the direction in which the
 environment can push the limb) with a Coulomb friction coefficient mu. At each vertex p_j a
-friction pyramid of 4 ridges approximates the cone:
+friction pyramid of 4 ridges approximates the cone (ours: eq. 8 does not count them; these
+lie on the cone, an inscribed pyramid):
     rho_k = (n + mu t_k) / ||n + mu t_k||,  t_k in {+t1, -t1, +t2, -t2},
 with n, t1, t2 the contact frame's z, x, y axes in the world. The contact wrench (force, and
 moment about the world origin) is w_i = G_i lambda_i with lambda_i >= 0 and

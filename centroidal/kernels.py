@@ -216,8 +216,9 @@ def damping_control(
     frame of its target orientation, (k, 4)): the wrench error e = measured - desired (limb
     frames, (k, 6)) drives Kd dp/dt = Kf e - Ks p with the damping, stiffness and force gains
     (k, 6), so that Table II's entries for the contact normal and its tangents act along the
-    contact's own normal and tangents (a hand on a wall, a foot on a rung), as the paper's
-    eq. 15 is written in the contact frame. The compliances are contact-frame vectors,
+    contact's own normal and tangents (a hand on a wall, a foot on a rung). Ours: the paper's
+    eq. 15 names no frame; Table II's separate normal and tangential gains (its sixth K_s
+    entry about the normal) suggest the contact's. The compliances are contact-frame vectors,
     updated in place over `dt` [s]: the linear one (k, 3) [m] by Euler, the angular one
     (k, 3) [rad] on SO(3) (exp(dt rate) exp(p)). Returns the compliant limb positions
     target + R p (k, 3) [m] and orientations R exp(p) (k, 4). For a contact frame that differs

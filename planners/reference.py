@@ -22,7 +22,9 @@ from robots.scene import Scenario
 
 
 def support_centre(scenario: Scenario, time: float) -> tuple[np.ndarray, float]:
-    """Horizontal support centre (2,) [m] and mean support height [m] at `time`."""
+    """Horizontal support centre (2,) [m] and mean support height [m] at `time`. Beyond Murooka
+    Sec. V-B/V-C's feet (ours): in a flight the last supported phase's centre is held, and with
+    only the hands in contact ((D)) it is their centre, at the last foot phase's height."""
     phase = scenario.phase_at(time)
     if not phase.contacts:  # flight: hold the last supported phase's centre
         earlier = [p for p in scenario.phases if p.end <= phase.start and p.contacts]

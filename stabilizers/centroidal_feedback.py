@@ -3,7 +3,9 @@
 
 Each control period:
 1. centroidal feedback (eq. 11): Delta w-bar^d = [K_PL (c^d - c^a) + K_DL (c'^d - c'^a);
-   K_PA log(R^d R^a') + K_DA (omega^d - omega^a)], with r^d the planner's desired state;
+   K_PA log(R^d R^a') + K_DA (omega^d - omega^a)], with r^d the planner's desired state (ours:
+   the angular velocities omega for the paper's base-angle rates alpha', the same to first
+   order in the angle);
 2. desired resultant wrench (eq. 12): w-bar^d = w-bar^p' + Delta w-bar^d;
 3. distribution (eqs. 13-14): w^d = w-bar^d + [m g; c^a x f^d] (the actual CoM, as the paper
    recommends) onto the cone of the contacts; w_i^d = G_i lambda_i;

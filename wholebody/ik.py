@@ -1,4 +1,5 @@
-"""Whole-body inverse kinematics: one weighted least-squares QP per control period.
+"""Whole-body inverse kinematics: one weighted least-squares QP per control period (ours: at the
+velocity level, where Murooka Sec. V-A1's IK is acceleration-based; README's adaptations).
 
 Each call takes the IK's own configuration q (the last solution, a floating-base model of the
 robot: the base is a free variable, as in Murooka Sec. V-A1, where the IK output goes to joint

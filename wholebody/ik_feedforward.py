@@ -1,4 +1,5 @@
-"""`ik_feedforward`: the default whole-body layer, `WholeBodyTargets` -> `JointCommand`.
+"""`ik_feedforward`: a whole-body layer (ours; the default is the paper's `ik`),
+`WholeBodyTargets` -> `JointCommand`.
 
 Joint position and velocity targets from the IK (`wholebody.ik`); feed-forward torques that hold
 the IK's configuration against gravity with the contact limbs carrying the load:

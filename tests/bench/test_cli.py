@@ -333,6 +333,16 @@ def test_closed_stdout_pipe_ends_quietly():
     assert "BrokenPipeError" not in err.decode()
 
 
+def test_runs_help_names_the_whole_body_layer_it_defaults_to():
+    """`--whole-body`'s help says "(default ik_feedforward)" until 2026-12-03; the default
+    filled in when only a planner and a stabilizer are given is DEFAULT_WHOLE_BODY."""
+    from wholebody.base import DEFAULT_WHOLE_BODY
+
+    result = run_cli("run", "--help")
+    assert result.returncode == 0, result.stderr
+    assert f"(default {DEFAULT_WHOLE_BODY})" in " ".join(result.stdout.split())
+
+
 def test_list_shows_every_registry_and_marks_the_defaults():
     from bench.controllers import CONTROLLERS
     from estimators import DEFAULT_ESTIMATOR
