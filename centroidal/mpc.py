@@ -1,4 +1,5 @@
-"""Constrained linear centroidal MPC over friction-pyramid ridge forces (the linear MPC that
+"""Constrained linear centroidal MPC over the contact wrenches (friction-pyramid ridge forces, or
+on the cone's faces: `centroidal.mpc_formulations`; the linear MPC that
 Murooka et al. 2022, Sec. V-E, compare their preview control with: Audren et al. 2014, "Model
 preview control in multi-contact motion").
 

@@ -4,9 +4,11 @@ their preview control with (Sec. V-E, V-G; Audren et al. 2014). Model, cost and 
 
 Each control period (dt = 2 ms):
 1. reference: the horizon's samples t + k dtau (k = 0..N-1; default N = 20, dtau = 0.1 s,
-   so 2 s like preview control); each sample's contacts from the scenario's phase at its
-   start; the output references c_ref (the same rules as preview control, Sec. V-B) and a zero
-   base angle at t + (k+1) dtau.
+   so 2 s like preview control; Murooka Sec. V-E gives Audren's as 3 s in 20 samples, 0.15 s:
+   `MPC_HORIZON_SAMPLES`, `MPC_SAMPLE_S`); each sample's contacts from the scenario's phase at
+   its start (ours: a double support shorter than a sample may fall between two samples);
+   the output references c_ref (the same rules as preview control, Sec. V-B) and a zero base
+   angle at t + (k+1) dtau.
 2. preview (here: the MPC solve): the contact wrench of every horizon sample, G_k lambda_k
    (ridge formulations) or directly on the cone's faces (face formulations, the default); the
    first sample's is the planned wrench. It lies in the contact cone by construction.
@@ -52,6 +54,13 @@ from robots.types import CentroidalPlan, RobotState
 REFERENCE_DT = 0.005  # [s] grid on which the CoM reference is precomputed
 
 
+MPC_HORIZON_SAMPLES = 20
+MPC_SAMPLE_S = 0.1
+"""The MPC's horizon, N samples of dtau [s]: Murooka Sec. V-E, "The MPC-based methods take 20 ms
+for a 3 s horizon (20 sample points) [5]", so 0.15 s samples; ours: 20 samples of 0.1 s, a 2 s
+horizon as Table I's preview control (400 x 5 ms), so that both planners see the same future."""
+
+
 class LinearMpcPlanner:
     name = "linear_mpc"
     projects_wrench = True
@@ -62,8 +71,8 @@ class LinearMpcPlanner:
         self,
         dt: float,
         formulation: str = DEFAULT_FORMULATION,
-        horizon: int = 20,
-        dtau: float = 0.1,
+        horizon: int = MPC_HORIZON_SAMPLES,
+        dtau: float = MPC_SAMPLE_S,
         weights: MpcWeights | None = None,
         ridge_upper: float | None = None,
         projection_backend: str = DEFAULT_BACKEND,
@@ -253,7 +262,7 @@ register(
     PlannerSpec(
         "linear_mpc",
         LinearMpcPlanner,
-        "constrained linear centroidal MPC over ridge forces (Audren et al. 2014)",
+        "constrained linear centroidal MPC over the contact wrenches (Audren et al. 2014)",
         can=MULTI_CONTACT,
     )
 )

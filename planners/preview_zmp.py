@@ -5,7 +5,11 @@ ICRA 2003), the bipedal baseline whose output definition Murooka et al. compare 
 Horizontal axes: state [x, x', x''], input the jerk, output the ZMP p = x - (z_c / g) x''
 (cart-table with a constant CoM height z_c); cost sum Q (p - p_ref)^2 + R u^2 with Kajita's
 weights Q = 1, R = 1e-6, discretised at 5 ms with a 2 s preview (Kajita uses 1.6 s; 2 s as in
-Table I, so both planners see the same future). The ZMP reference is the support centre, by the
+Table I, so both planners see the same future). Ours: the cost is Murooka's eqs. 4-5 form (R on
+the jerk, no integral of the ZMP error), where Kajita's preview servo puts R on the jerk's
+increment and integrates the error; the authors' own CCC PreviewControlZmp uses this form. The
+gains are designed on the 5 ms grid and applied every 2 ms control period, the preview
+indexed on that grid (as Murooka's Table I). The ZMP reference is the support centre, by the
 same piecewise-constant rule as `preview_control` (`planners.reference`), with each supporting
 sole's point moved 2 cm toward the body's midline, as the authors' own implementation of this
 baseline does (`zmp_reference`; in double support on parallel feet the two shifts cancel). The
@@ -16,7 +20,9 @@ is level.
 To give the stabilizers the same kind of plan as `preview_control`, the planned resultant
 wrench [m x''; m z''; 0 moment about the CoM] (`cart_table_wrench`) goes through the same
 projection (eqs. 9-10); its projection error then shows how far the cart-table plan is from
-the contact constraints.
+the contact constraints. Unlike `preview_control`, the desired state r^d is not integrated from
+the projected wrench: the stabilizers take the cart-table's own state as c^d (the plan sets no
+`com_desired_world`), with the projected wrench as their feed-forward.
 The steady-state tail correction of `centroidal.preview` is used as for `preview_control`.
 """
 

@@ -9,8 +9,12 @@ xi = c + c' / omega (horizontal), and the desired ZMP z^d (the plan's):
     f^c = m c''^c                                                       (eq. 18c)
 and vertically the planned force with the Table III PD on the height (scaled as in
 `centroidal_feedback`); the command resultant moment about the CoM is zero (the LIPM's force
-passes through the CoM). K_xi = 2, the Appendix's value for HRP-5P, which eq. 19 shows to be
-equivalent to Table III's linear gains.
+passes through the CoM). K_xi = 2, the Appendix's value for HRP-5P, which by eq. 19 "roughly
+matches" Table III's linear gains (they imply K_xi = 1.85 from K_P and 1.97 from K_D). So on
+our humanoid `dcm` acts with m omega^2 K_xi = 1387 N/m and m omega K_xi = 403 N s/m where
+`centroidal_feedback`'s rescaled Table III has 1280 / 397 (8 % stiffer). omega is taken each
+period from the desired CoM's height above the plan's ZMP (ours; the Appendix's LIPM has a
+constant height).
 """
 
 from __future__ import annotations
