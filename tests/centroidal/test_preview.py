@@ -73,10 +73,17 @@ def _step_response_final(tail_correction: bool) -> float:
 
 
 def test_truncated_preview_leaves_about_one_percent_offset():
-    """The issue's "about 1 %" with Table I and Nh = 400 (measured: the CoM settles 1.02 %
-    beyond the reference: the neglected tail of the gains is negative)."""
+    """The issue's "about 1 %" with Table I and Nh = 400: the CoM settles beyond the reference
+    (the neglected tail of the gains is negative), by what the steady state of eq. 5 predicts:
+    with the reference held, the jerk is zero at rest, so K x = (sum of the feed-forward gains)
+    r, and the truncated sum against the whole one (the tail added) sets the offset."""
     offset = _step_response_final(tail_correction=False) / 0.1 - 1
-    assert 0.003 < abs(offset) < 0.03
+    truncated = preview_gains(MASS, *TABLE_I_LINEAR, DTAU, NH, tail_correction=False)
+    whole = preview_gains(MASS, *TABLE_I_LINEAR, DTAU, NH, tail_correction=True)
+    predicted = truncated.feedforward.sum(axis=0)[0] / whole.feedforward.sum(axis=0)[0] - 1
+    assert offset > 0.0
+    assert 0.003 < offset < 0.03
+    assert offset == pytest.approx(predicted, rel=1e-6)
 
 
 def test_tail_correction_removes_the_offset():

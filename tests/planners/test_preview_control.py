@@ -32,19 +32,28 @@ def test_walks_ten_steps_without_falling(walks, run):
     assert summary["fell"] is False
     scenario = make_scenario("walk", RobotModel(humanoid()))
     assert summary["duration"] == pytest.approx(scenario.duration, abs=0.003)
-    # every planned footstep was taken: the robot ends where the plan ends
+    # every planned footstep was taken, the feet alternating from the right, and the robot
+    # ends where the plan ends (a step short would leave its CoM about 6 cm behind)
+    assert summary["steps_taken"] == 10
+    limbs = list(result.footsteps["limb"])
+    assert limbs == ["right_foot", "left_foot"] * 5
     final = result.trace.iloc[-1]
     last = scenario.phases[-1].contacts
     end_x = np.mean([c.position_world[0] for c in last])
-    assert end_x == pytest.approx(1.125)
-    assert final["com_actual_x"] == pytest.approx(end_x, abs=0.05)
-    assert abs(final["com_actual_y"]) < 0.05
+    assert final["com_actual_x"] == pytest.approx(end_x, abs=0.01)
+    assert abs(final["com_actual_y"]) < 0.01
 
 
 @pytest.mark.parametrize("run", RUNS, ids=RUN_IDS)
 def test_planned_zmp_stays_in_the_support_polygon(walks, run):
-    assert walks[run].summary["zmp_margin_min_m"] > 0.0
-    assert (walks[run].trace["zmp_margin_m"] > 0.0).all()
+    """The plan's ZMP stays CONTACT_MARGIN (10 mm) inside the soles, the margin of the cones
+    it is projected onto (Murooka Fig. 3: polygons "with inner margins"; measured: on the
+    margin at its closest in every run)."""
+    from robots.limbs import CONTACT_MARGIN
+
+    margin = CONTACT_MARGIN * humanoid().scale
+    assert walks[run].summary["zmp_margin_min_m"] >= margin - 1e-9
+    assert (walks[run].trace["zmp_margin_m"] >= margin - 1e-9).all()
 
 
 @pytest.mark.parametrize("run", RUNS, ids=RUN_IDS)
@@ -75,15 +84,15 @@ def test_summary_has_table_iv_rows_and_projection_errors(walks, run):
         "desired_force_N",
         "desired_moment_Nm",
     }
+    # on flat ground the walk's plan stays inside its cones: little is left to project (the
+    # paper's single digits are on (B) and (C), Sec. V-G); measured 0.005-0.08 N, 0.14-0.41 N m
     for value in errors.values():
-        assert 0.0 <= value < 50.0  # N or N m; Murooka reports single digits
+        assert 0.0 < value < 1.0  # N or N m
     trace = walks[run].trace
-    # centroidal_total is the per-period sum of the four Table IV rows
-    parts = trace[[f"t_{r}_us" for r in ("reference", "preview", "projection", "distribution")]]
-    np.testing.assert_allclose(trace["t_centroidal_total_us"], parts.sum(axis=1), rtol=1e-9)
+    # every Table IV row was timed in every period
+    for row in ("reference", "preview", "projection", "distribution"):
+        assert (trace[f"t_{row}_us"] > 0.0).all(), row
     # Table IV's "Total control" is the planner and the stabilizer, which contain those rows
-    stages = trace["t_planner_us"] + trace["t_stabilizer_us"]
-    np.testing.assert_allclose(trace["t_centroidal_control_us"], stages, rtol=1e-9)
     assert (trace["t_centroidal_control_us"] >= trace["t_centroidal_total_us"]).all()
     assert "centroidal_control" in summary["latency_us"]
 

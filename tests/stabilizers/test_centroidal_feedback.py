@@ -1,4 +1,5 @@
-"""The gains of centroidal_feedback: Murooka's Appendix relation (eq. 19) and Table III."""
+"""The gains of centroidal_feedback (Murooka's Appendix relation, eq. 19, and Table III), its
+damping control and distribution, and the DCM baseline's feedback (Appendix eqs. 17-18)."""
 
 import numpy as np
 import pytest
@@ -332,3 +333,38 @@ def test_a_limbs_compliance_keeps_its_pose_when_its_damping_axes_change(standing
     stabilizer._change_damping_axes(axes)
     np.testing.assert_allclose(stabilizer.compliance_linear[k], linear, atol=1e-15)
     np.testing.assert_allclose(stabilizer.compliance_angular[k], angular, atol=1e-15)
+
+
+def test_dcm_feedback_is_eq_18_and_eq_19s_pd_on_the_com():
+    """Appendix eqs. 17-18: z^c = z^d + K_xi (xi^a - xi^d), f^c = m omega^2 (c^d - z^c); with
+    xi = c + c' / omega this is the feed-forward m omega^2 (c^d - z^d) plus a PD on the CoM
+    with K_P = m omega^2 K_xi and K_D = m omega K_xi (eq. 19); vertically the planned force
+    plus the height PD; no moment about the CoM."""
+    from types import SimpleNamespace
+
+    from stabilizers.dcm import K_XI, DcmStabilizer
+
+    mass, height = 58.4, 0.8
+    omega = np.sqrt(9.81 / height)
+    com_d, velocity_d = np.array([0.10, -0.02, height]), np.array([0.2, 0.05, 0.0])
+    zmp_d = np.array([0.07, 0.01, 0.0])
+    com_a = com_d + np.array([-0.01, 0.004, 0.002])
+    velocity_a = velocity_d + np.array([0.03, -0.02, 0.01])
+    plan = SimpleNamespace(
+        desired_state=lambda: (com_d, velocity_d, None, None),
+        zmp_planned_world=zmp_d,
+        wrench_projected_world=np.array([0.0, 0.0, mass * 9.81, 0.0, 0.0, 0.0]),
+    )
+    state = SimpleNamespace(com_position_world=com_a, com_velocity_world=velocity_a)
+    gains = SimpleNamespace(mass=mass, kp=np.full(6, 1280.0), kd=np.full(6, 397.0))
+    wrench = DcmStabilizer.desired_wrench(gains, plan, state)
+    feedforward = mass * omega**2 * (com_d[:2] - zmp_d[:2])
+    pd = mass * omega**2 * K_XI * (com_d[:2] - com_a[:2]) + mass * omega * K_XI * (
+        velocity_d[:2] - velocity_a[:2]
+    )
+    np.testing.assert_allclose(wrench[:2], feedforward + pd, rtol=1e-12)
+    vertical = (
+        mass * 9.81 + 1280.0 * (com_d[2] - com_a[2]) + 397.0 * (velocity_d[2] - velocity_a[2])
+    )
+    assert wrench[2] == pytest.approx(vertical, rel=1e-12)
+    np.testing.assert_array_equal(wrench[3:], np.zeros(3))
