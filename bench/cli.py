@@ -8,12 +8,13 @@ from __future__ import annotations
 
 import argparse
 import json
+import math
 import os
 import sys
 import time
 from collections.abc import Callable, Sequence
 from pathlib import Path
-from typing import TypeVar
+from typing import Any, TypeVar
 
 import numpy as np
 
@@ -925,10 +926,24 @@ def footsteps_file(trace_path: str) -> str:
     return f"{stem}.footsteps.parquet"
 
 
+def strict_json(value: Any) -> Any:
+    """`value` with every NaN or infinite float as None, so that the JSON printed is strict
+    (RFC 8259 has no NaN: jq and most parsers refuse Python's `NaN` token); a p99 that is not
+    stated, for one, is null."""
+    if isinstance(value, float):
+        return value if math.isfinite(value) else None
+    if isinstance(value, dict):
+        return {key: strict_json(item) for key, item in value.items()}
+    if isinstance(value, list | tuple):
+        return [strict_json(item) for item in value]
+    return value
+
+
 def _print_summary(summary: dict, as_json: bool) -> None:
-    """An episode's summary: one JSON object, or three lines and the latency table."""
+    """An episode's summary: one JSON object (strict: `strict_json`), or three lines and the
+    latency table."""
     if as_json:
-        print(json.dumps(summary))
+        print(json.dumps(strict_json(summary), allow_nan=False))
     else:
         print(
             f"{summary['planner']} + {summary['stabilizer']} on {summary['sim']}, "

@@ -202,7 +202,15 @@ class _Trace:
         return pd.DataFrame(columns)
 
 
+MIN_P99_SAMPLES = 100
+"""Periods a stage's p99 needs: at fewer, the 99th percentile lies between the two largest
+values, the maximum in all but name; the p99 is then NaN (and left out of the report's
+medians), the maximum still recorded."""
+
+
 def _latency(trace: pd.DataFrame) -> dict[str, dict[str, float]]:
+    """Per timed stage (the trace's t_<stage>_us columns): mean, median, p99 (NaN under
+    MIN_P99_SAMPLES periods) and maximum [µs] over the periods that timed it."""
     result = {}
     for column in trace.columns:
         if column.startswith("t_") and column.endswith("_us"):
@@ -212,7 +220,11 @@ def _latency(trace: pd.DataFrame) -> dict[str, dict[str, float]]:
                 result[column[2:-3]] = {
                     "mean": float(values.mean()),
                     "median": float(np.median(values)),
-                    "p99": float(np.percentile(values, 99)),
+                    "p99": (
+                        float(np.percentile(values, 99))
+                        if len(values) >= MIN_P99_SAMPLES
+                        else math.nan
+                    ),
                     "max": float(values.max()),
                 }
     return result
@@ -245,7 +257,11 @@ def _latency_by_contacts(trace: pd.DataFrame) -> dict[str, dict[str, dict[str, f
                     "periods": len(values),
                     "mean": float(values.mean()),
                     "median": float(np.median(values)),
-                    "p99": float(np.percentile(values, 99)),
+                    "p99": (
+                        float(np.percentile(values, 99))
+                        if len(values) >= MIN_P99_SAMPLES
+                        else math.nan
+                    ),
                 }
         if stages:
             result[str(int(n))] = stages

@@ -255,7 +255,8 @@ def sections(
             result.append(
                 (
                     f"Push survival, {phase} (Ficht & Behnke Table 2)",
-                    "Pushes survived out of those judged per level: a push to the torso for "
+                    "Pushes survived out of those judged per level, with the 95 % Wilson "
+                    "interval: a push to the torso for "
                     "0.1 s from a direction drawn uniformly on the circle (the same directions "
                     f"for every controller); survived = no fall within {survival_time:g} s "
                     "after it. Levels are velocity changes dv = J / m, with the impulse J for "
@@ -488,12 +489,15 @@ def _robustness_sections(episodes: pd.DataFrame) -> list[tuple[str, str, pd.Data
                 "One dimension at a time (sensor noise in multiples of the data sheets' or, "
                 "noise_<channel>, one channel's standard deviation in SI units; delays in "
                 "control periods; model errors, actuation, ground): survival with "
-                "the 95 % Wilson interval and the median CoM tracking error [mm], per protocol "
+                "the 95 % Wilson interval (from 10 episodes on; a count alone below, as for a "
+                "robustness walk: one episode, a finding, not a rate) and the median CoM "
+                "tracking error [mm], per protocol "
                 "(the pushes, or the plain scenario: survived = no fall); the nominal episodes "
                 "are each dimension's nominal magnitude. A pushed episode that fell before "
                 "its push counts here as not survived (not standing until the push is part of "
-                "what a perturbation degrades); before push: how many did. Errors, timeouts "
-                "and n/a rows are not counted.",
+                "what a perturbation degrades); before push: how many did. A controller's own "
+                "failure counts as not survived; a simulator's or worker's error or a timeout "
+                "is not judged (not judged: how many); n/a rows are left out.",
                 degradation[
                     [
                         *tables.KEYS,
@@ -502,16 +506,18 @@ def _robustness_sections(episodes: pd.DataFrame) -> list[tuple[str, str, pd.Data
                         "magnitude",
                         "survival",
                         "before_push",
+                        "not_judged",
                         "com_rms_mm",
                     ]
-                ].rename(columns={"before_push": "before push"}),
+                ].rename(columns={"before_push": "before push", "not_judged": "not judged"}),
             )
         )
         result.append(
             (
                 "Where each controller loses half of its survival",
                 "Per dimension: the nominal survival and the first magnitude (moving away from "
-                "the nominal one) at which the survival rate is at most half of it.",
+                "the nominal one) at which the survival rate is at most half of it (not "
+                "stated, n < 10, where a magnitude has fewer than 10 episodes).",
                 robustness.half_survival_table(degradation),
             )
         )

@@ -62,7 +62,10 @@ def degradation_plot(degradation: pd.DataFrame, dimension: str, path: str | Path
     ):
         group = group.sort_values("magnitude")
         label = f"{controller} ({sim}, {protocol})"
-        errors = np.vstack([group["rate"] - group["low"], group["high"] - group["rate"]])
+        # no bar where a magnitude has too few episodes for an interval (`MIN_RATE_TRIALS`)
+        errors = np.nan_to_num(
+            np.vstack([group["rate"] - group["low"], group["high"] - group["rate"]])
+        )
         survival.errorbar(
             group["magnitude"],
             group["rate"],

@@ -18,6 +18,8 @@ from scipy import stats
 
 from reports.outcomes import ended_before_push, judged, judged_push
 from reports.statistics import (
+    MIN_RATE_TRIALS,
+    count_cell,
     fraction_cell,
     paired_table,
     robust_required,
@@ -100,23 +102,28 @@ def protocol_of(rows: pd.DataFrame) -> pd.Series:
 def degradation_table(episodes: pd.DataFrame) -> pd.DataFrame:
     """Per controller x simulator x protocol x dimension x magnitude (the nominal episodes as
     magnitude 0 or 1, whichever the dimension leaves unchanged, of every dimension): survival
-    k/n with its 95 % Wilson interval (rate, low, high) over the judged episodes and the
-    median CoM tracking error [mm]. A pushed episode that fell before its push counts as not
-    survived here (unlike the push tables: under a perturbation, not standing until the push
-    is part of what the dimension degrades); `before_push` says how many of them there are.
-    Empty without robustness episodes."""
+    k/n over the judged episodes, with its 95 % Wilson interval (rate, low, high) from
+    MIN_RATE_TRIALS episodes on (a count alone below: `count_cell`), and the median CoM
+    tracking error [mm]. A pushed episode that fell before its push counts as not survived here
+    (unlike the push tables: under a perturbation, not standing until the push is part of what
+    the dimension degrades); `before_push` says how many of them there are. A controller's own
+    failure is judged (not survived, `reports.outcomes`); a simulator's or worker's error or a
+    timeout is not, and `not_judged` counts them; n/a rows are left out. Empty without
+    robustness episodes."""
     labels = perturbation_labels(episodes)
     if (labels == "nominal").all():
         return pd.DataFrame()
-    rows = episodes[judged(episodes)].copy()
+    rows = episodes[episodes["status"] != "n/a"].copy()
+    rows["is_judged"] = judged(rows).to_numpy()
     if "replica" in rows:
         rows = rows[rows["replica"].fillna(0) == 0]
     if "push_direction_name" in rows:
         rows = rows[rows["push_direction_name"].isna()]
     rows["label"] = perturbation_labels(rows)
     rows["protocol"] = protocol_of(rows)
-    rows["alive"] = _survived(rows)
-    rows["early"] = ended_before_push(rows)
+    rows["alive"] = _survived(rows) & rows["is_judged"]
+    rows["early"] = ended_before_push(rows) & rows["is_judged"]
+    rows["com_judged"] = rows["com_error_rms_m"].where(rows["is_judged"])
     single = rows["label"].str.fullmatch(r"[A-Za-z0-9_]+=[-0-9.e+]+")
     perturbed = rows[single].copy()
     perturbed[["dimension", "magnitude"]] = perturbed["label"].str.split("=", expand=True)
@@ -137,19 +144,21 @@ def degradation_table(episodes: pd.DataFrame) -> pd.DataFrame:
     grouped = table.groupby([*KEYS, "protocol", "dimension", "magnitude"], sort=True)
     result = grouped.agg(
         survived=("alive", "sum"),
-        episodes=("alive", "size"),
+        episodes=("is_judged", "sum"),
+        not_judged=("is_judged", lambda judged_rows: int((~judged_rows).sum())),
         before_push=("early", "sum"),
-        com_rms_mm=("com_error_rms_m", lambda s: 1e3 * s.median()),
+        com_rms_mm=("com_judged", lambda s: 1e3 * s.median()),
     ).reset_index()
+    result = result[result["episodes"] > 0].reset_index(drop=True)
     intervals = [
-        wilson_interval(int(k), int(n))
+        wilson_interval(int(k), int(n)) if n >= MIN_RATE_TRIALS else (math.nan, math.nan)
         for k, n in zip(result["survived"], result["episodes"], strict=True)
     ]
     result["rate"] = result["survived"] / result["episodes"]
     result["low"] = [low for low, _ in intervals]
     result["high"] = [high for _, high in intervals]
     result["survival"] = [
-        fraction_cell(int(k), int(n))
+        count_cell(int(k), int(n))
         for k, n in zip(result["survived"], result["episodes"], strict=True)
     ]
     return result
@@ -169,7 +178,8 @@ def nominal_magnitude(dimension: str) -> float:
 def half_survival_table(degradation: pd.DataFrame) -> pd.DataFrame:
     """Per controller x simulator x protocol x dimension: the nominal survival rate and the
     first magnitude (moving away from the nominal one) at which the rate is at most half of
-    it ("beyond" the largest tested when none is; "-" when the nominal rate is 0)."""
+    it ("beyond" the largest tested when none is; "-" when the nominal rate is 0; "n < 10"
+    when a magnitude has fewer than MIN_RATE_TRIALS episodes, as a robustness walk's one)."""
     rows = []
     if degradation.empty:
         return pd.DataFrame(columns=[*KEYS, "protocol", "dimension", "nominal", "half at"])
@@ -184,7 +194,9 @@ def half_survival_table(degradation: pd.DataFrame) -> pd.DataFrame:
         order = order[order["magnitude"] != base]
         if order.empty:
             continue
-        if rate == 0:
+        if min(group["episodes"]) < MIN_RATE_TRIALS:
+            half = f"n < {MIN_RATE_TRIALS}"
+        elif rate == 0:
             half = "-"
         else:
             lost = order[order["rate"] <= rate / 2]
@@ -196,7 +208,7 @@ def half_survival_table(degradation: pd.DataFrame) -> pd.DataFrame:
                 "sim": sim,
                 "protocol": protocol,
                 "dimension": dimension,
-                "nominal": fraction_cell(
+                "nominal": count_cell(
                     int(start["survived"].iloc[0]), int(start["episodes"].iloc[0])
                 ),
                 "half at": half,
@@ -361,7 +373,7 @@ def direction_table(episodes: pd.DataFrame) -> pd.DataFrame:
     R judged replicas are left out. Empty without support-relative pushes or several swing
     fractions."""
     rows = episodes[perturbation_labels(episodes) == "nominal"]  # every replica
-    rows = rows[(rows["push_phase"] == "walking") & judged_push(rows)]
+    rows = rows[rows["push_phase"] == "walking"]
     if rows.empty or "push_direction_name" not in rows:
         return pd.DataFrame()
     rows = rows.assign(
@@ -370,16 +382,23 @@ def direction_table(episodes: pd.DataFrame) -> pd.DataFrame:
         alive=rows["survived"].fillna(False).astype(bool),
         replica=rows["replica"].fillna(0).astype(int) if "replica" in rows else 0,
         push=episode_key(rows),
+        is_judged=judged_push(rows).to_numpy(),
     )
     if rows["direction"].eq("random").all() and rows["fraction"].nunique() == 1:
         return pd.DataFrame()
     keys = [*KEYS, "fraction", "direction", "push_dv_mps"]
+    # R from every replica run, the judged or not (a push whose last replica timed out has
+    # R - 1 judged ones and is left out, not judged "4 of 4")
+    replicas = rows.groupby([*keys, "push"], sort=True)["replica"].max() + 1
+    rows = rows[rows["is_judged"]]
+    if rows.empty:
+        return pd.DataFrame()
     pushes = (
         rows.groupby([*keys, "push"], sort=True)
-        .agg(alive=("alive", "sum"), judged=("alive", "size"), replicas=("replica", "max"))
+        .agg(alive=("alive", "sum"), judged=("alive", "size"))
         .reset_index()
     )
-    pushes["replicas"] += 1
+    pushes["replicas"] = replicas.loc[pd.MultiIndex.from_frame(pushes[[*keys, "push"]])].to_numpy()
     pushes = pushes[pushes["judged"] == pushes["replicas"]]
     required = [robust_required(int(r)) for r in pushes["replicas"]]
     pushes["survived"] = pushes["alive"] >= required

@@ -12,8 +12,9 @@ paired comparisons between controllers on the same pushes, and the band between 
   the pushes one survives and the other does not, and the exact two-sided McNemar test on them
   (a binomial test of the discordant pairs at p = 1/2: under the null hypothesis that both
   controllers survive equally, each discordant push is equally likely to go either way).
-- `simulator_band`: a number measured in both simulators as its range [low, high], the band
-  the report shows on every headline number.
+- `simulator_band`: a number measured in both simulators as its range [low, high] (the two
+  point estimates, not an interval), which the report shows in its headline §1 (push
+  survival) and §5 (where the simulators disagree), not on the cost or the speed tables.
 - `median_interval`: the distribution-free 95 % interval of a median from its sample's order
   statistics (scipy's `quantile_test(...).confidence_interval()`: the interval between the
   order statistics that the binomial distribution of the count below the median brackets
@@ -127,14 +128,40 @@ def median_interval(values: Iterable[float], confidence: float = CONFIDENCE) -> 
     return (float(interval.low), float(interval.high))
 
 
+MIN_RATE_TRIALS = 10
+"""Below this many episodes a cell states its count, not a rate: no interval and no "half at"
+(a robustness walk is one episode per magnitude: a fall is a finding, not a rate)."""
+
+
+def _percent_bound(bound: float, upper: bool) -> str:
+    """A Wilson bound [0, 1] in percent: to the nearest whole percent, but within 1 % of 0 or
+    100 (and not 0 or 100 itself) to a tenth, rounded outward, so that only k = 0 prints a
+    0 and only k = n prints 100 (99 of 100 is 95-99.9 %, not 95-100 %)."""
+    percent = 100.0 * bound
+    if 0.0 < percent < 1.0 or 99.0 < percent < 100.0:
+        tenths = math.ceil(10.0 * percent) if upper else math.floor(10.0 * percent)
+        return f"{min(max(tenths, 1), 999) / 10:.1f}"
+    return f"{percent:.0f}"
+
+
 def fraction_cell(survived: int, trials: int) -> str:
-    """ "k/n (low-high %)" with the Wilson interval rounded to the nearest whole percent (so
-    a printed bound may lie up to half a percent inside the computed one); "0/0" without
-    trials."""
+    """ "k/n (low-high %)" with the 95 % Wilson interval in whole percent, rounded to the
+    nearest (so a printed bound may lie up to half a percent inside the computed one), but to
+    a tenth near 0 and 100 % (`_percent_bound`); "0/0" without trials."""
     if trials <= 0:
         return "0/0"
     low, high = wilson_interval(survived, trials)
-    return f"{survived}/{trials} ({100 * low:.0f}-{100 * high:.0f} %)"
+    return (
+        f"{survived}/{trials} ({_percent_bound(low, upper=False)}-"
+        f"{_percent_bound(high, upper=True)} %)"
+    )
+
+
+def count_cell(survived: int, trials: int) -> str:
+    """`fraction_cell` from MIN_RATE_TRIALS trials on, else the bare count "k/n"."""
+    if trials < MIN_RATE_TRIALS:
+        return f"{survived}/{trials}"
+    return fraction_cell(survived, trials)
 
 
 def paired_table(

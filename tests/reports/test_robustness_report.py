@@ -461,6 +461,22 @@ def test_the_headline_survival_counts_the_unjudged_episodes_and_names_the_level(
     assert headline.loc["a+x", "levels"] == f"0.3 m/s ({impulse:.1f} N s)"
 
 
+def _walking_push(level: float, direction: str, replica: int, status: str) -> dict:
+    """A walking push of "a+x" in MuJoCo, 0.2 into the swing, survived when `status` is ok."""
+    return _row(
+        controller="a+x",
+        sim="mujoco",
+        scenario="walk_push",
+        push_phase="walking",
+        push_dv_mps=level,
+        push_direction_name=direction,
+        push_swing_fraction=0.2,
+        replica=replica,
+        status=status,
+        survived=status == "ok",
+    )
+
+
 def test_the_direction_table_counts_pushes_not_replicas():
     """One inward push at three levels with 5 replicas each (4, 5 and 2 survived): per level
     1/1, 1/1, 0/1 pushes (4 of 5 replicas make a push survived), not "11/15" pooled with an
@@ -470,20 +486,7 @@ def test_the_direction_table_counts_pushes_not_replicas():
         for replica in range(5):
             for name in ("inward", "outward"):
                 alive = replica < k if name == "inward" else True
-                rows.append(
-                    _row(
-                        controller="a+x",
-                        sim="mujoco",
-                        scenario="walk_push",
-                        push_phase="walking",
-                        push_dv_mps=level,
-                        push_direction_name=name,
-                        push_swing_fraction=0.2,
-                        replica=replica,
-                        status="ok" if alive else "fell",
-                        survived=alive,
-                    )
-                )
+                rows.append(_walking_push(level, name, replica, "ok" if alive else "fell"))
     table = robustness.direction_table(pd.DataFrame(rows)).set_index("direction")
     assert list(table.loc["inward", ["dv 0.2 m/s", "dv 0.3 m/s", "dv 0.4 m/s"]]) == [
         "1/1",
@@ -491,6 +494,77 @@ def test_the_direction_table_counts_pushes_not_replicas():
         "0/1",
     ]
     assert list(table.loc["outward", ["dv 0.2 m/s", "dv 0.3 m/s", "dv 0.4 m/s"]]) == ["1/1"] * 3
+
+
+def test_a_push_whose_last_replica_was_not_judged_is_left_out_of_the_direction_table():
+    """Replicas 0-2 and 4 survived, replica 3 fell: 4 of 5, survived (1/1). With replica 4 a
+    timeout instead (not judged), the push has 4 judged replicas of 5 and is left out; it is
+    not judged on 3 of 4, nor on the 4 left "of 4" when the missing one is the last."""
+
+    def push(status_of):
+        rows = []
+        for replica in range(5):
+            status = status_of(replica)
+            for name in ("inward", "outward"):
+                rows.append(_walking_push(0.3, name, replica, status if name == "inward" else "ok"))
+        return robustness.direction_table(pd.DataFrame(rows)).set_index("direction")
+
+    complete = push(lambda r: "fell" if r == 3 else "ok")
+    assert complete.loc["inward", "dv 0.3 m/s"] == "1/1"
+    for missing in (3, 4):
+        table = push(lambda r, m=missing: "timeout" if r == m else "ok")
+        assert "inward" not in table.index  # its only push: left out
+        assert table.loc["outward", "dv 0.3 m/s"] == "1/1"
+
+
+def test_robustness_walks_of_one_episode_are_counts_without_a_rate():
+    """A robustness walk is one episode per magnitude: its cell is "0/1", with no interval and
+    no "half at" (a fall is a finding, not a rate)."""
+    rows = [
+        _row(controller="a+x", sim="mujoco", scenario="walk", status="ok", survived=None),
+        _row(
+            controller="a+x",
+            sim="mujoco",
+            scenario="walk",
+            status="fell",
+            survived=None,
+            perturbation="slope_deg=-4",
+            slope_deg=-4.0,
+        ),
+    ]
+    table = robustness.degradation_table(pd.DataFrame(rows)).set_index("magnitude")
+    assert list(table["survival"]) == ["0/1", "1/1"]
+    assert table["low"].isna().all()
+    assert table["high"].isna().all()
+    half = robustness.half_survival_table(robustness.degradation_table(pd.DataFrame(rows)))
+    assert list(half["half at"]) == ["n < 10"]
+
+
+def test_the_degradation_table_counts_what_it_does_not_judge():
+    """Of 10 perturbed pushes, one ended in a simulator error: 9 judged, 1 not judged; one
+    more ended in a planner error, judged and not survived."""
+    rows = []
+    for index in range(10):
+        rows.append(_push("a+x", "mujoco", 0.3, index, True, push_time_s=1.5))
+        status, stage = ("error", "sim") if index == 0 else ("ok", None)
+        if index == 1:
+            status, stage = "error", "planner"
+        row = _push(
+            "a+x",
+            "mujoco",
+            0.3,
+            index,
+            status == "ok",
+            push_time_s=1.5,
+            perturbation="payload_kg=10",
+            payload_kg=10.0,
+        )
+        row.update(status=status, error_stage=stage, duration=3.0)
+        rows.append(row)
+    table = robustness.degradation_table(pd.DataFrame(rows)).set_index("magnitude")
+    assert table.loc[10.0, "episodes"] == 9
+    assert table.loc[10.0, "not_judged"] == 1
+    assert table.loc[10.0, "survived"] == 8
 
 
 def test_the_degradation_table_says_how_many_fell_before_their_push():

@@ -56,6 +56,35 @@ def test_fraction_cell_shows_the_interval_in_percent():
     assert fraction_cell(0, 0) == "0/0"
 
 
+def _wilson_closed_form(k: int, n: int, z: float = 1.959963984540054) -> tuple[float, float]:
+    """Wilson 1927: (p + z^2 / 2n -+ z sqrt(p (1 - p) / n + z^2 / 4n^2)) / (1 + z^2 / n)."""
+    p = k / n
+    centre, spread = p + z * z / (2 * n), z * math.sqrt(p * (1 - p) / n + z * z / (4 * n * n))
+    return (centre - spread) / (1 + z * z / n), (centre + spread) / (1 + z * z / n)
+
+
+def test_near_0_and_100_percent_a_bound_is_printed_to_a_tenth_rounded_outward():
+    """99 of 100 survived: the upper bound is 99.82 %, printed 99.9 (not "100", which only k = n
+    may show); 1 of 20: the lower bound 0.89 % is printed 0.8 (not "0", only k = 0's)."""
+    low, high = _wilson_closed_form(99, 100)
+    assert 99.8 < 100 * high < 99.9
+    assert round(100 * low) == 95
+    assert fraction_cell(99, 100) == "99/100 (95-99.9 %)"
+    low, high = _wilson_closed_form(1, 20)
+    assert 0.8 < 100 * low < 0.9
+    assert round(100 * high) == 24
+    assert fraction_cell(1, 20) == "1/20 (0.8-24 %)"
+
+
+def test_below_ten_trials_a_cell_is_a_count_without_a_rate():
+    from reports.statistics import MIN_RATE_TRIALS, count_cell
+
+    assert MIN_RATE_TRIALS == 10
+    assert count_cell(1, 1) == "1/1"
+    assert count_cell(0, 9) == "0/9"
+    assert count_cell(6, 10) == fraction_cell(6, 10)
+
+
 def test_robust_threshold_is_the_last_level_before_the_first_with_fewer_than_4_of_5():
     T, F = True, False
     levels = {
