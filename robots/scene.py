@@ -130,9 +130,9 @@ class MovingBox:
 @dataclass(frozen=True)
 class Grasp:
     """A hand grasping a box (a rail, a rung): from `start` to `end` [s] the link of the robot
-    limb `limb` (a hand's forearm) is welded to the scene box `box` (a `Box` or a `MovingBox`)
-    at the relative pose the two have when the grasp is made. Unlike a palm pressed on a
-    surface (a unilateral contact), a grasp can pull, and holds any wrench: an equality
+    limb `limb` (its `Limb.link`, the hand's) is welded to the scene box `box` (a `Box` or a
+    `MovingBox`) at the relative pose the two have when the grasp is made. Unlike a palm pressed
+    on a surface (a unilateral contact), a grasp can pull, and holds any wrench: an equality
     constraint in the physics engine, the same in every simulator (`sims.base.SimulatorBase
     .grasp`). The simulator makes it before the first physics step that starts at or after
     `start` (to half a physics step) and releases it before the first one at or after `end`

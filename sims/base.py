@@ -8,7 +8,7 @@ the two simulators run the same experiment by construction.
 Grasps (`robots.scene.Grasp`, `SimulatorBase.grasp` / `release`): a hand that holds a rail or a
 rung must be able to pull, which a hand pad's contact (unilateral, like every contact in both
 engines) cannot. A grasp is an equality constraint that welds the limb's link (a hand's
-forearm) to a scene box at the relative pose the two have when it is made, anchored at the
+`Limb.link`) to a scene box at the relative pose the two have when it is made, anchored at the
 limb's contact frame (the palm centre): a MuJoCo weld equality (`mjEQ_WELD`, activated with
 `MjData.eq_active`) and a PyBullet fixed constraint (`createConstraint(..., JOINT_FIXED)`,
 removed at release); see each backend for its softness and force limit. Its force counts in

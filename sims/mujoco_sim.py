@@ -62,6 +62,8 @@ from sims.kernels import mujoco_sensors
 from sims.sensor_buffer import SensorLayout
 
 CONTACT_SOLREF = (0.005, 1.0)
+"""Every contact's solref (time constant [s], damping ratio): stiffer than MuJoCo's default
+0.02 s (see the module); PyBullet's contacts are rigid with an ERP (`sims.pybullet_sim`)."""
 FRICTION_CONE = mujoco.mjtCone.mjCONE_ELLIPTIC
 FRICTION_IMPRATIO = 10.0
 """The friction law: Coulomb's cone |f_t| <= mu f_n (elliptic), as PyBullet's (its default
