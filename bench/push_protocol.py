@@ -90,6 +90,8 @@ class PushProtocol:
                 raise ValueError(f"dv' must be {_FIELDS['dv']}, got {value!r}")
             if not 0 < value <= MAX_PUSH_DV:  # False for nan, inf and huge integers too
                 raise ValueError(f"dv' must be {_FIELDS['dv']}, got {value!r}")
+        if len({float(value) for value in dv}) != len(dv):  # the same pushes twice, one id
+            raise ValueError(f"dv' names a level twice: {dv!r}")
         phases = data.get("phases", ["standing"])
         if isinstance(phases, str):
             phases = [phases]

@@ -16,6 +16,7 @@ stopped and every finished episode stays.
 
 from __future__ import annotations
 
+import collections
 import contextlib
 import functools
 import math
@@ -221,6 +222,10 @@ def run_sweep(
     store = ResultStore(out)
     store.check_usable()
     episodes = spec.episodes()
+    counts = collections.Counter(e.episode_id for e in episodes)
+    if len(counts) != len(episodes):  # one file per id: a second run would overwrite the first
+        twice = next(i for i, n in counts.items() if n > 1)
+        raise ValueError(f"sweep spec {spec.name!r} lists episode {twice} more than once")
     runner = make_executor(executor, workers=workers, address=address)
     bar = None
     try:

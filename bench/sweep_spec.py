@@ -524,6 +524,8 @@ def _sweep_from_mapping(data: dict[str, Any], episodes_required: bool = True) ->
     for label, values in (("seeds", seeds), ("scales", scales), ("frictions", frictions)):
         if not values:
             raise SpecError(f"sweep spec field {label!r} must not be empty")
+        if len(set(values)) != len(values):  # the same episodes twice, under one id
+            raise SpecError(f"sweep spec field {label!r} names a value twice: {list(values)}")
     estimator = data.get("estimator", DEFAULT_ESTIMATOR)
     if not isinstance(estimator, str) or estimator not in ESTIMATORS.names():
         raise SpecError(

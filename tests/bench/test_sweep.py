@@ -294,3 +294,16 @@ def test_a_jobs_protocols_run_one_after_the_other(tmp_path: Path, monkeypatch):
     )
     run_sweep(spec, tmp_path / "out", workers=1, progress=False, work=recording_protocol_work)
     assert log.read_text().splitlines() == ["pushes"] * 3 + ["walks"]
+
+
+def test_a_spec_that_lists_an_episode_twice_is_refused_before_anything_runs(tmp_path):
+    """Each episode is one file named by its id: the same seed twice would run twice and keep
+    one row (the second overwriting the first), so the sweep refuses it and writes nothing."""
+    from bench.sweep_spec import SweepSpec
+
+    spec = SweepSpec(
+        controllers=("hold+posture",), sims=("mujoco",), scenarios=("stand",), seeds=(0, 0)
+    )
+    with pytest.raises(ValueError, match=r"lists episode .* more than once"):
+        run_sweep(spec, tmp_path / "out", workers=1, progress=False)
+    assert not (tmp_path / "out").exists()
