@@ -276,6 +276,11 @@ class ResultStoreError(RuntimeError):
     """The result directory cannot be used as asked; one line that says why and what to do."""
 
 
+class UnrecordableResult(ValueError):
+    """An episode's row, trace or footsteps do not fit the results' schema (a value of the wrong
+    type, a NaN in an integer column): the sweep records the episode as an error instead."""
+
+
 def read_episode_file(path: Path) -> pa.Table:
     """One episode file as a one-row `ROW_SCHEMA` table; ValueError saying why it is not one
     (unreadable Parquet, another schema, not one row, or a row of another episode). A file of
@@ -534,11 +539,15 @@ class ResultStore:
         footsteps: pd.DataFrame | None = None,
     ) -> None:
         """Write the trace first, then the row: a row on disk means a finished episode.
-        ResultStoreError when the disk refuses (full, read-only, gone)."""
+        ResultStoreError when the disk refuses (full, read-only, gone); UnrecordableResult when
+        the row, trace or footsteps do not convert to the schema (nothing of the row is
+        written then)."""
         try:
             self._write(row, trace, footsteps)
         except OSError as exc:
             raise ResultStoreError(_io_message(self.root, exc)) from exc
+        except (pa.ArrowException, TypeError, ValueError) as exc:
+            raise UnrecordableResult(f"{type(exc).__name__}: {exc}") from exc
 
     def _write(
         self, row: dict[str, Any], trace: pd.DataFrame | None, footsteps: pd.DataFrame | None

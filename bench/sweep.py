@@ -32,7 +32,14 @@ from typing import Any
 import pandas as pd
 
 from bench.branching import branch_key, can_fork, run_group
-from bench.dataset import RETRIED_STATUSES, ResultStore, failure_row, read_episodes, summary_row
+from bench.dataset import (
+    RETRIED_STATUSES,
+    ResultStore,
+    UnrecordableResult,
+    failure_row,
+    read_episodes,
+    summary_row,
+)
 from bench.executors import EpisodeTimeout, make_executor, worker_progress
 from bench.runner import EpisodeResult, run_episode
 from bench.sweep_spec import Episode, SweepSpec
@@ -302,7 +309,11 @@ def _run_episodes(
             else:
                 row, trace, *rest = result  # (row, trace[, footsteps])
                 footsteps = rest[0] if rest else None
-            store.write(row, trace, footsteps)
+            try:
+                store.write(row, trace, footsteps)
+            except UnrecordableResult as exc:  # recorded as what it is, not lost each resume
+                row = _failure_row(episode, RuntimeError(f"result could not be recorded: {exc}"))
+                store.write(row, None, None)
             store.discard_aside()  # the new sweep has started: the old results go
             falls += row["status"] == "fell"
             errors += row["status"] in RETRIED_STATUSES

@@ -307,3 +307,32 @@ def test_a_spec_that_lists_an_episode_twice_is_refused_before_anything_runs(tmp_
     with pytest.raises(ValueError, match=r"lists episode .* more than once"):
         run_sweep(spec, tmp_path / "out", workers=1, progress=False)
     assert not (tmp_path / "out").exists()
+
+
+_POISON_ENV = "CENTROBENCH_TEST_POISON"
+
+
+def poisoned_work(episode):
+    """run_one, except that the episode named in the environment returns a row whose
+    `fall_reason` is a number, which the results' schema (a string) refuses."""
+    row, *rest = run_one(episode)
+    if episode.episode_id == os.environ[_POISON_ENV]:
+        row = {**row, "fall_reason": 3}
+    return (row, *rest)
+
+
+def test_a_result_that_does_not_fit_the_schema_is_an_error_row_and_the_sweep_goes_on(
+    tmp_path: Path, monkeypatch
+):
+    """Until 2026-12-03 pyarrow's ArrowTypeError left the sweep, and every resume died at the
+    same episode, which was never written: now it is an error row that says why."""
+    spec = small_spec()
+    episodes = spec.episodes()
+    target = episodes[1].episode_id
+    monkeypatch.setenv(_POISON_ENV, target)
+    frame = run_sweep(spec, tmp_path / "out", workers=2, progress=False, work=poisoned_work)
+    assert sorted(frame["episode_id"]) == sorted(e.episode_id for e in episodes)
+    rows = frame.set_index("episode_id")
+    assert rows.loc[target, "status"] == "error"
+    assert "result could not be recorded" in rows.loc[target, "error"]
+    assert set(rows.drop(index=target)["status"]) == {"ok"}
