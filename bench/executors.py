@@ -272,6 +272,7 @@ class _Worker:
                 signal.signal(signal.SIGINT, previous)
         child.close()
         self.ready = False  # the worker has said it is ready (its imports are done)
+        self.started_up = False  # it has said so once: a death after that is not a start-up's
         self.task: _Task | None = None
         self.task_id = -1
         self.started = 0.0
@@ -347,7 +348,7 @@ class LocalExecutor:
         self._folder: Path | None = None
         self._fn: Callable[[Any], Any] | None = None
         self._started = 0  # workers started so far (numbers their stack files)
-        self._start_failures = 0  # workers that died before they were given work
+        self._start_failures = 0  # workers in a row that died before they said they were ready
 
     def _start_worker(self, fn: Callable[[Any], Any] | None, number: int) -> _Worker:
         assert self._folder is not None
@@ -391,6 +392,9 @@ class LocalExecutor:
                 for index, worker in enumerate(self._pool):
                     task = worker.task
                     result = self._receive(worker) if worker.conn in ready else _NOTHING
+                    if worker.ready and not worker.started_up:  # a worker can start
+                        worker.started_up = True
+                        self._start_failures = 0
                     if task is not None and result is not _NOTHING:
                         worker.task = None
                         yield task.item, result
@@ -439,14 +443,16 @@ class LocalExecutor:
 
     def _replace_dead(self, index: int) -> str:
         """Replace the dead worker at `index`; what happened to it, as a sentence. Raises
-        RuntimeError when workers keep dying before they are given work (they cannot start)."""
+        RuntimeError when four workers in a row die before they say they are ready (they cannot
+        start); a worker that had started and died idle (killed from outside: the OOM killer)
+        is replaced without counting."""
         worker = self._pool[index]
         worker.kill()  # closes its pipe and reaps it
         location = stack_location(worker.stack())
         where = f" (at {location})" if location else ""
         said = worker.last_words()
         where += f"; its last words: {said}" if said else ""
-        if worker.task is None:
+        if worker.task is None and not worker.started_up:
             self._start_failures += 1
             if self._start_failures > 3:
                 raise RuntimeError(

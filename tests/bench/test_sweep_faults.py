@@ -499,6 +499,45 @@ def test_a_result_that_cannot_be_read_is_that_items_error_and_the_rest_arrive():
     assert "Unknown format code" in str(results[1])
 
 
+def sleepy_work(seconds: float) -> float:
+    time.sleep(seconds)
+    return seconds
+
+
+def test_workers_killed_while_idle_do_not_end_the_sweep():
+    """A worker that had started and is killed while idle (the OOM killer picks a process with
+    a large footprint) is replaced; until 2026-12-03 the fourth such death anywhere in a sweep
+    ended it as "worker processes die at start-up", with the busy workers' episodes lost."""
+    import threading
+
+    from bench.executors import LocalExecutor
+
+    executor = LocalExecutor(workers=2)
+    kills: list[int] = []
+
+    def kill_the_idle_worker_four_times() -> None:
+        deadline = time.monotonic() + 60.0
+        while len(kills) < 4 and time.monotonic() < deadline:
+            pool = list(executor._pool)
+            idle = [w for w in pool if w.task is None and w.ready and w.process.is_alive()]
+            if idle and any(w.task is not None for w in pool):
+                os.kill(idle[0].process.pid, signal.SIGKILL)
+                kills.append(idle[0].process.pid)
+            time.sleep(0.05)
+
+    killer = threading.Thread(target=kill_the_idle_worker_four_times, daemon=True)
+    try:
+        results = executor.map_unordered(sleepy_work, [25.0, 0.0])
+        first = next(results)  # the short item: from here one worker is idle, one busy
+        killer.start()
+        rest = list(results)
+    finally:
+        executor.close()
+    killer.join(timeout=5.0)
+    assert len(kills) == 4
+    assert dict([first, *rest]) == {0.0: 0.0, 25.0: 25.0}
+
+
 def test_workers_get_sigkill_when_their_parent_dies():
     """The kernel's parent-death signal is set in every worker (what the test above relies
     on when the watcher thread cannot run)."""
