@@ -40,7 +40,7 @@ from collections.abc import Sequence
 from dataclasses import replace
 from typing import Any
 
-from bench.executors import EpisodeTimeout, progress_stage
+from bench.executors import SPLIT_SLOT, EpisodeTimeout, progress_stage
 
 BRANCHED_SCENARIOS = ("stand_push", "walk_push")
 """Scenarios whose episodes differ only in their push (impulse and direction)."""
@@ -115,6 +115,8 @@ class Brancher:
         of the common part already spent) and raise `BranchesDone`: the parent runs no
         episode of its own, so that nothing one episode does can take the others' results."""
         self.split_done = True
+        if self.progress is not None and len(self.progress) > SPLIT_SLOT:
+            self.progress[SPLIT_SLOT] = 1.0  # the executor now holds this to the group's budget
         begin = time.perf_counter()
         parent = os.getpid()
         # before each fork, the objects so far (the earlier branches' results too) out of the

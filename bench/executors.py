@@ -144,6 +144,11 @@ def worker_progress() -> Any:
     return _progress
 
 
+SPLIT_SLOT = 2
+"""The progress slot's index that a branched group sets to 1 when it has split
+(`bench.branching.Brancher.split`): from then on its worker is held to the group's budget."""
+
+
 def progress_stage(code: float) -> str:
     """The name of a stage code written by `bench.runner.run_episode`."""
     from bench.runner import PROGRESS_STAGES
@@ -243,6 +248,14 @@ class _Task:
     item: Any
     budget_s: float
     attempts: int = 0
+    before_split_s: float = math.inf
+    """[s] the budget until the worker's progress slot says its group has split (`SPLIT_SLOT`):
+    an item that runs a shared part first (`split_budget_s`, a branched group) is held to one
+    episode's budget for it, not to the sum of its episodes'."""
+
+    def budget_now(self, progress: Any) -> float:
+        """The budget [s] that holds now: `before_split_s` until the split, then `budget_s`."""
+        return self.budget_s if progress[SPLIT_SLOT] else min(self.before_split_s, self.budget_s)
 
 
 class _Worker:
@@ -250,7 +263,7 @@ class _Worker:
 
     def __init__(self, context, fn: Callable[[Any], Any], folder: Path, number: int) -> None:
         self.conn, child = context.Pipe()
-        self.progress = context.RawArray("d", 2)
+        self.progress = context.RawArray("d", 3)  # stage, simulated time, split done
         self.stack_path = folder / f"worker-{number}.stack"
         self.process = context.Process(
             target=_worker_main,
@@ -280,7 +293,7 @@ class _Worker:
     def send(self, task: _Task, task_id: int) -> bool:
         """Give the worker `task`; False if its pipe is broken (it died while idle). The
         progress slot is cleared before the task goes out: the worker may write it at once."""
-        self.progress[0] = self.progress[1] = 0.0
+        self.progress[0] = self.progress[1] = self.progress[SPLIT_SLOT] = 0.0
         try:
             self.conn.send((task_id, task.item))
         except OSError:  # BrokenPipeError, ConnectionResetError
@@ -371,7 +384,9 @@ class LocalExecutor:
 
         def take() -> _Task:
             item = pending.popleft()
-            return _Task(item, math.inf if budget is None else budget(item))
+            task = _Task(item, math.inf if budget is None else budget(item))
+            task.before_split_s = getattr(item, "split_budget_s", math.inf)
+            return task
 
         try:
             while pending or retry or any(w.task is not None for w in self._pool):
@@ -404,7 +419,9 @@ class LocalExecutor:
                             retry.append(task)  # something outside may have killed it
                         elif task is not None:
                             yield task.item, WorkerDied(f"{died}, twice")
-                    elif task is not None and time.monotonic() - worker.started > task.budget_s:
+                    elif task is not None and (
+                        time.monotonic() - worker.started > task.budget_now(worker.progress)
+                    ):
                         yield task.item, self._end_overrun(index)
         finally:
             self.close()
@@ -419,7 +436,10 @@ class LocalExecutor:
         busy = [w for w in self._pool if w.task is not None]
         watched = busy + [w for w in self._pool if not w.ready]
         now = time.monotonic()
-        deadline = min((w.started + w.task.budget_s for w in busy), default=now + 1.0)  # type: ignore[union-attr]
+        deadline = min(
+            (w.started + w.task.budget_now(w.progress) for w in busy),  # type: ignore[union-attr]
+            default=now + 1.0,
+        )
         timeout = min(max(deadline - now, 0.0), 1.0)
         return wait([w.conn for w in watched] + [w.process.sentinel for w in watched], timeout)
 
@@ -474,7 +494,8 @@ class LocalExecutor:
         worker.kill()
         self._pool[index] = self._new_worker()
         assert worker.task is not None
-        return EpisodeTimeout(worker.task.budget_s, stage, sim_time, location)
+        budget_s = worker.task.budget_now(worker.progress)
+        return EpisodeTimeout(budget_s, stage, sim_time, location)
 
     @staticmethod
     def _await_stack(worker: _Worker) -> str | None:

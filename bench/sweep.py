@@ -77,6 +77,13 @@ class EpisodeGroup:
     def protocol(self) -> str | None:
         return self.episodes[0].protocol
 
+    @property
+    def split_budget_s(self) -> float:
+        """[s] the budget until the group splits at its push (`bench.executors.SPLIT_SLOT`):
+        one episode's, which the shared part is a part of (a hang before the push is caught
+        after it, not after the sum of the group's)."""
+        return self.budgets_s[0]
+
 
 def run_branched(group: EpisodeGroup) -> list[Any]:
     """Run `group` in this process (`bench.branching.run_group`): per episode, what `run_one`

@@ -101,10 +101,11 @@ def test_a_branch_over_its_budget_ends_alone_as_a_timeout():
     worker returns them: the timeout arrives whole (it did not unpickle before 2026-11-27, and
     the sweep ended in a ValueError with the group's rows lost)."""
     specs = _pushes("mujoco")
-    progress = [0.0, 0.0]
+    progress = [0.0, 0.0, 0.0]  # a worker's slot: stage, simulated time, split done
     results = pickle.loads(
         pickle.dumps(run_group(specs, progress, budgets_s=[600.0, 0.001, 600.0]))
     )
+    assert progress[2] == 1.0  # the group said it split (`bench.executors.SPLIT_SLOT`)
     timeout = results[1]
     assert isinstance(timeout, EpisodeTimeout)
     assert isinstance(timeout.budget_s, float)

@@ -18,6 +18,7 @@ import socket
 import subprocess
 import sys
 import time
+from dataclasses import dataclass
 from pathlib import Path
 
 import pandas as pd
@@ -536,6 +537,47 @@ def test_workers_killed_while_idle_do_not_end_the_sweep():
     killer.join(timeout=5.0)
     assert len(kills) == 4
     assert dict([first, *rest]) == {0.0: 0.0, 25.0: 25.0}
+
+
+@dataclass(frozen=True)
+class SplitItem:
+    """An item that runs a shared part before it splits, like a branched group: it sleeps
+    `before_s` [s], says it has split when `splits`, then sleeps `after_s`."""
+
+    before_s: float
+    after_s: float
+    splits: bool
+    split_budget_s: float = 2.0
+
+
+def split_work(item: SplitItem) -> str:
+    from bench.executors import SPLIT_SLOT
+
+    time.sleep(item.before_s)
+    if item.splits:
+        worker_progress()[SPLIT_SLOT] = 1.0
+    time.sleep(item.after_s)
+    return "done"
+
+
+def test_a_group_that_hangs_before_its_split_is_held_to_one_episodes_budget():
+    """A branched group's budget is the sum of its episodes' (20 for a push level), but until it
+    splits at the push it is held to one episode's (`EpisodeGroup.split_budget_s`): a hang in
+    the shared part ends after that (here 2 s of a 60 s group budget); a group that has split
+    goes on past it."""
+    from bench.executors import EpisodeTimeout, LocalExecutor
+
+    hung, splits = SplitItem(60.0, 0.0, False), SplitItem(0.2, 3.0, True)
+    executor = LocalExecutor(workers=2)
+    begin = time.monotonic()
+    try:
+        results = dict(executor.map_unordered(split_work, [hung, splits], budget=lambda i: 60.0))
+    finally:
+        executor.close()
+    assert time.monotonic() - begin < 20.0
+    assert isinstance(results[hung], EpisodeTimeout)
+    assert "budget of 2 s" in str(results[hung])
+    assert results[splits] == "done"
 
 
 def test_workers_get_sigkill_when_their_parent_dies():
