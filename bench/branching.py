@@ -159,8 +159,14 @@ class Brancher:
         try:
             try:
                 data = pickle.dumps(result, protocol=pickle.HIGHEST_PROTOCOL)
-            except Exception as exc:  # a result that does not pickle
-                data = pickle.dumps(RuntimeError(f"{type(exc).__name__}: {exc}"))
+                if isinstance(result, BaseException):  # its class may not rebuild from args
+                    pickle.loads(data)
+            except Exception as exc:  # a result that does not pickle, or not back
+                if isinstance(result, BaseException):
+                    what = f"{type(result).__name__}: {result}"
+                else:
+                    what = f"the result could not be sent: {type(exc).__name__}: {exc}"
+                data = pickle.dumps(RuntimeError(what))
             view = memoryview(data)
             while view:
                 view = view[os.write(self._write_fd, view) :]

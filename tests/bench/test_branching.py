@@ -261,3 +261,32 @@ def test_the_parent_unfreezes_however_it_leaves(monkeypatch):
     with pytest.raises(KeyboardInterrupt):
         brancher.split(0.0)
     assert gc.get_freeze_count() == 0
+
+
+class TwoPartError(Exception):
+    """An exception whose class cannot be rebuilt from its args (pickle calls it with the
+    message alone)."""
+
+    def __init__(self, what: str, where: str) -> None:
+        super().__init__(f"{what} at {where}")
+
+
+def test_a_branchs_exception_that_would_not_unpickle_arrives_as_its_message():
+    """Until 2026-12-03 such an exception was lost in the parent, and the episode read "branch
+    process exited with status 0 without a result"."""
+    import os
+    import time
+
+    from bench.branching import Brancher
+
+    brancher = Brancher(1, [10.0], None)
+    read_fd, write_fd = os.pipe()
+    pid = os.fork()
+    if pid == 0:
+        os.close(read_fd)
+        brancher._write_fd = write_fd
+        brancher.finish_child(TwoPartError("the solver gave up", "t = 1.2 s"))
+    os.close(write_fd)
+    result = brancher._collect(pid, read_fd, time.perf_counter(), 10.0)
+    assert isinstance(result, RuntimeError)
+    assert str(result) == "TwoPartError: the solver gave up at t = 1.2 s"
