@@ -289,11 +289,13 @@ class _Worker:
         self.task: _Task | None = None
         self.task_id = -1
         self.started = 0.0
+        self.stack_offset = 0  # [bytes] where the current task's part of the stack file starts
 
     def send(self, task: _Task, task_id: int) -> bool:
         """Give the worker `task`; False if its pipe is broken (it died while idle). The
         progress slot is cleared before the task goes out: the worker may write it at once."""
         self.progress[0] = self.progress[1] = self.progress[SPLIT_SLOT] = 0.0
+        self.stack_offset = self.stack_size()  # what earlier tasks wrote is not this one's
         try:
             self.conn.send((task_id, task.item))
         except OSError:  # BrokenPipeError, ConnectionResetError
@@ -302,9 +304,20 @@ class _Worker:
         task.attempts += 1
         return True
 
-    def stack(self) -> str:
+    def stack_size(self) -> int:
+        """[bytes] of the stack file so far (0 before the worker made it)."""
         with contextlib.suppress(OSError):
-            return self.stack_path.read_text()
+            return self.stack_path.stat().st_size
+        return 0
+
+    def stack(self, since: int | None = None) -> str:
+        """The stack file from byte `since` (default: the current task's start) on: the fault
+        handler's dumps of this task (a crash, or the parent's SIGUSR1), and those of branch
+        processes forked in it, which inherit the file."""
+        offset = self.stack_offset if since is None else since
+        with contextlib.suppress(OSError), self.stack_path.open("rb") as file:
+            file.seek(offset)
+            return file.read().decode(errors="replace")
         return ""
 
     def last_words(self) -> str | None:
@@ -340,9 +353,15 @@ _FRAME = re.compile(r'File "(?P<file>[^"]+)", line (?P<line>\d+) in (?P<function
 
 def stack_location(text: str) -> str | None:
     """Where a fault-handler stack was: its innermost frame in the project's own files (as
-    "folder/file.py:line in function"), else its innermost frame; None without frames."""
+    "folder/file.py:line in function"), else its innermost frame; None without frames. Of
+    several dumps in `text` (a branch's crash, then the worker's own), the last."""
     root = Path(__file__).resolve().parents[1]
     innermost = None
+    # each dump opens with its own thread's stack ("Current thread ..." for a crash, "Stack
+    # (...)" for SIGUSR1), the other threads' after it
+    header = max(text.rfind("Current thread "), text.rfind("Stack (most recent call first)"))
+    if header >= 0:
+        text = text[header:]
     for match in _FRAME.finditer(text):  # most recent call first
         path = Path(match["file"]).resolve()
         where = f"{path}:{match['line']} in {match['function']}"
@@ -488,9 +507,10 @@ class LocalExecutor:
         worker = self._pool[index]
         stage = progress_stage(worker.progress[0])
         sim_time = float(worker.progress[1])
+        before = worker.stack_size()  # the dump asked for comes after what is there now
         with contextlib.suppress(ProcessLookupError):
             os.kill(worker.process.pid, signal.SIGUSR1)  # type: ignore[arg-type]
-        location = self._await_stack(worker)
+        location = self._await_stack(worker, before)
         worker.kill()
         self._pool[index] = self._new_worker()
         assert worker.task is not None
@@ -498,11 +518,12 @@ class LocalExecutor:
         return EpisodeTimeout(budget_s, stage, sim_time, location)
 
     @staticmethod
-    def _await_stack(worker: _Worker) -> str | None:
-        """The location in the stack that a worker writes on SIGUSR1 (waits STACK_WAIT_S)."""
+    def _await_stack(worker: _Worker, since: int) -> str | None:
+        """The location in the stack that a worker writes on SIGUSR1 after byte `since` of its
+        stack file (waits STACK_WAIT_S)."""
         end = time.monotonic() + STACK_WAIT_S
         while time.monotonic() < end:
-            location = stack_location(worker.stack())
+            location = stack_location(worker.stack(since))
             if location is not None:
                 return location
             time.sleep(0.02)

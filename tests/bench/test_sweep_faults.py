@@ -580,6 +580,29 @@ def test_a_group_that_hangs_before_its_split_is_held_to_one_episodes_budget():
     assert results[splits] == "done"
 
 
+def test_of_two_dumps_in_a_workers_stack_file_the_location_is_the_last_ones():
+    """A branch forked in a worker inherits its stack file: its crash's dump comes first, and
+    the worker's own dump (asked for by SIGUSR1 at a hang) after it; the location is the
+    worker's (until 2026-12-03 the branch's, the first found). The other threads of a crash's
+    dump come after its own thread's and are not taken."""
+    from bench.executors import stack_location
+
+    crash = (
+        "Fatal Python error: Segmentation fault\n\n"
+        "Current thread 0x1 (most recent call first):\n"
+        f'  File "{ROOT}/bench/branching.py", line 10 in child_thing\n\n'
+        "Thread 0x2 (most recent call first):\n"
+        f'  File "{ROOT}/bench/dataset.py", line 3 in other\n\n'
+    )
+    asked = (
+        "Stack (most recent call first):\n"
+        f'  File "{ROOT}/bench/runner.py", line 42 in _run_episode\n'
+        f'  File "{ROOT}/bench/sweep.py", line 7 in run\n'
+    )
+    assert stack_location(crash + asked) == "bench/runner.py:42 in _run_episode"
+    assert stack_location(crash) == "bench/branching.py:10 in child_thing"
+
+
 def test_workers_get_sigkill_when_their_parent_dies():
     """The kernel's parent-death signal is set in every worker (what the test above relies
     on when the watcher thread cannot run)."""
