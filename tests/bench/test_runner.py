@@ -13,6 +13,7 @@ import pytest
 from bench.branching import PUSH_TIMING_DELAY_PERIODS
 from bench.results import read_trace, write_trace
 from bench.runner import EpisodeSpec, run_episode, summary_json_ready
+from robots.robot_registry import make_robot
 from stabilizers import base as stabilizer_registry
 from stabilizers.posture import PostureStabilizer
 
@@ -104,12 +105,13 @@ def test_hold_posture_stands_ten_seconds(standing, sim):
     assert summary["fall_time"] is None
     assert summary["duration"] == pytest.approx(10.0)
     com = result.trace[["com_actual_x", "com_actual_y"]].to_numpy()
-    assert np.linalg.norm(com - com[0], axis=1).max() < 0.01
-    # the feet carry the weight throughout
+    assert np.linalg.norm(com - com[0], axis=1).max() < 0.002  # measured 0.7 mm
+    # the feet carry the weight after the first 0.5 s (the start's settling): measured to 7e-5
     fz = (
         result.trace["wrench_measured_left_foot_fz"] + result.trace["wrench_measured_right_foot_fz"]
     )
-    assert np.abs(fz.iloc[250:] / (58.4 * 9.81) - 1).max() < 0.02
+    weight = make_robot("centrobench_humanoid").total_mass * 9.81
+    assert np.abs(fz.iloc[250:] / weight - 1).max() < 1e-3
 
 
 @pytest.mark.parametrize("sim", SIMS)
@@ -135,7 +137,8 @@ def test_summary_contract(standing, sim):
         assert 0 < stats["median"] <= stats["p99"] <= stats["max"]
     total = summary["latency_us"]["control_total"]["median"]
     parts = sum(summary["latency_us"][s]["median"] for s in STAGES - {"sim", "control_total"})
-    assert total == pytest.approx(parts, rel=0.5)  # medians of a sum vs sum of medians
+    # the median of a sum against the sum of the medians: measured 0.4-0.8 % apart
+    assert total == pytest.approx(parts, rel=0.05)
     for package in ("mujoco", "pybullet", "pin", "qpsolvers"):
         assert summary["versions"][package]
     json.dumps(summary)  # serialisable as it stands

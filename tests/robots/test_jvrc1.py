@@ -235,8 +235,10 @@ def test_the_zmp_preview_walks_jvrc1_whose_soles_stand_at_two_heights(sim):
     cart-table's height reference steps between supports; before `follow_height` the step
     planned a negative vertical force and the episode ended in an error at 1.0 s). In PyBullet
     it fell at 8.72 s until its ZMP reference moved 2 cm inward of the soles' centres, as the
-    authors' implementation (`zmp_reference`). Measured at 4268572 + that: 10 steps, CoM
-    7.8 / 8.1 mm RMS from the plan (MuJoCo / PyBullet; 10.1 mm in MuJoCo before)."""
+    authors' implementation (`zmp_reference`). Measured: 10 steps, CoM 8.3 / 8.1 mm RMS from
+    the plan (MuJoCo / PyBullet, 2026-12-03; 7.8 / 8.1 mm at 4268572, and 10.1 mm in MuJoCo
+    before the inward reference): within 9.5 mm, below the 10.1 of before."""
     result = run_controller("preview_zmp+dcm", sim, "walk", robot="jvrc1")
     assert result.summary["status"] == "ok", result.summary["error"]
     assert result.summary["steps_taken"] >= 10
+    assert result.summary["com_error_rms_m"] < 0.0095

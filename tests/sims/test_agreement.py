@@ -100,25 +100,29 @@ def test_feet_carry_the_weight(robot, standing, sim_name):
     trace = standing[sim_name]
     weight = robot.total_mass * G
     vertical = trace.contact_force_world[settled(trace), 2]
-    assert np.all(np.abs(vertical - weight) <= 0.02 * weight)
-    # and the per-foot sensors carry it in their own frames, half each by symmetry
+    # at rest the ground carries m g: measured to 5e-7 of it; 1e-4 leaves room for the
+    # contacts' settling, not for a wrong sign, frame or a missing link
+    assert np.all(np.abs(vertical - weight) <= 1e-4 * weight)
+    # and the per-foot sensors carry it in their own frames, half each by symmetry (measured to
+    # 4.5e-4 in PyBullet, whose LCP splits it less evenly)
     last = trace.sensors[-1].contact_wrench_limb
-    np.testing.assert_allclose(last[:2, 2], weight / 2, rtol=0.02)
+    np.testing.assert_allclose(last[:2, 2], weight / 2, rtol=5e-3)
 
 
 @pytest.mark.parametrize("sim_name", SIMS)
 def test_horizontal_foot_forces_vanish(robot, standing, sim_name):
     trace = standing[sim_name]
     horizontal = np.linalg.norm(trace.contact_force_world[settled(trace), :2], axis=1)
-    assert horizontal.max() <= 0.005 * robot.total_mass * G  # 2.9 N for 58 kg
+    assert horizontal.max() <= 0.002 * robot.total_mass * G  # 1.1 N for 58 kg (measured 0.13)
 
 
 @pytest.mark.parametrize("sim_name", SIMS)
 def test_com_stays_put(standing, sim_name):
     trace = standing[sim_name]
     com = trace.com[:, :2]
-    assert np.linalg.norm(com[settled(trace)] - com[settled(trace)][0], axis=1).max() < 0.005
-    assert np.linalg.norm(com - com[0], axis=1).max() < 0.005
+    # measured 0.07 / 0.14 mm (MuJoCo / PyBullet)
+    assert np.linalg.norm(com[settled(trace)] - com[settled(trace)][0], axis=1).max() < 0.001
+    assert np.linalg.norm(com - com[0], axis=1).max() < 0.001
 
 
 @pytest.mark.parametrize("sim_name", SIMS)
@@ -143,7 +147,7 @@ def test_centre_of_pressure_under_the_com(standing, sim_name):
     gap = np.linalg.norm(
         trace.cop_world[settled(trace, 1.0)] - trace.com[settled(trace, 1.0), :2], axis=1
     )
-    assert gap.max() < 0.002
+    assert gap.max() < 0.0005  # measured 0.13 / 0.17 mm
 
 
 @pytest.mark.parametrize("sim_name", SIMS)
@@ -151,38 +155,39 @@ def test_imu_at_rest_reads_gravity(standing, sim_name):
     s = standing[sim_name].sensors[-1]
     w, x, y, z = s.imu_orientation_world
     up_in_imu = np.array([2 * (x * z - w * y), 2 * (y * z + w * x), 1 - 2 * (x * x + y * y)])
-    np.testing.assert_allclose(s.imu_linear_acceleration_imu, G * up_in_imu, atol=0.05)
+    np.testing.assert_allclose(s.imu_linear_acceleration_imu, G * up_in_imu, atol=2e-3)
     np.testing.assert_allclose(s.imu_angular_velocity_imu, 0.0, atol=0.01)
     # the IMU is fixed to the torso with the torso's axes
     sign = np.sign(s.imu_orientation_world @ s.base_orientation_world)
     np.testing.assert_allclose(sign * s.imu_orientation_world, s.base_orientation_world, atol=1e-9)
 
 
-def test_standing_sensors_agree_between_simulators(robot, standing):
-    """Tolerances: forces 1 % of m g (5.7 N), moments 1 N m, orientation 1e-3, angular rate
-    0.01 rad/s, specific force 0.05 m/s^2, joint positions 1e-3 rad, torques 1 N m, averaged
-    over the last second."""
+def test_standing_sensors_agree_between_simulators(standing):
+    """Averaged over the last second, the two simulators' sensors agree within a few times what
+    was measured (below): forces 2 N, moments 0.5 N m, orientation 1e-3, angular rate 2e-3
+    rad/s, specific force 5e-3 m/s^2, joint positions 5e-4 rad, torques 0.5 N m."""
     window = slice(-500, None)
     a, b = (standing[name].sensors[window] for name in SIMS)
 
     def mean(sensors, attribute):
         return np.mean([getattr(s, attribute) for s in sensors], axis=0)
 
-    weight = robot.total_mass * G
     wa, wb = mean(a, "contact_wrench_limb"), mean(b, "contact_wrench_limb")
-    np.testing.assert_allclose(wa[:, :3], wb[:, :3], atol=0.01 * weight)
-    np.testing.assert_allclose(wa[:, 3:], wb[:, 3:], atol=1.0)
+    # measured: forces 0.24 N, moments 0.09 N m, gyro 1.3e-4 rad/s, specific force 3.3e-4
+    # m/s^2, joints 8.7e-5 rad, torques 0.11 N m apart (2026-12-03)
+    np.testing.assert_allclose(wa[:, :3], wb[:, :3], atol=2.0)
+    np.testing.assert_allclose(wa[:, 3:], wb[:, 3:], atol=0.5)
     np.testing.assert_allclose(
         mean(a, "imu_orientation_world"), mean(b, "imu_orientation_world"), atol=1e-3
     )
     np.testing.assert_allclose(
-        mean(a, "imu_angular_velocity_imu"), mean(b, "imu_angular_velocity_imu"), atol=0.01
+        mean(a, "imu_angular_velocity_imu"), mean(b, "imu_angular_velocity_imu"), atol=2e-3
     )
     np.testing.assert_allclose(
-        mean(a, "imu_linear_acceleration_imu"), mean(b, "imu_linear_acceleration_imu"), atol=0.05
+        mean(a, "imu_linear_acceleration_imu"), mean(b, "imu_linear_acceleration_imu"), atol=5e-3
     )
-    np.testing.assert_allclose(mean(a, "joint_position"), mean(b, "joint_position"), atol=1e-3)
-    np.testing.assert_allclose(mean(a, "joint_torque"), mean(b, "joint_torque"), atol=1.0)
+    np.testing.assert_allclose(mean(a, "joint_position"), mean(b, "joint_position"), atol=5e-4)
+    np.testing.assert_allclose(mean(a, "joint_torque"), mean(b, "joint_torque"), atol=0.5)
 
 
 @pytest.mark.parametrize("sim_name", SIMS)
@@ -198,7 +203,8 @@ def test_push_in_free_fall_changes_com_velocity_by_impulse_over_mass(robot, mode
     before, after = trace.com_velocity[round(0.08 / trace.dt)], trace.com_velocity[-1]
     np.testing.assert_allclose(before, 0.0, atol=1e-9)  # nothing external yet: at rest
     expected = impulse / robot.total_mass
-    assert np.linalg.norm(after - before - expected) <= 0.02 * np.linalg.norm(expected)
+    # measured to 1.4e-5 / 2.3e-4 of J / m
+    assert np.linalg.norm(after - before - expected) <= 2e-3 * np.linalg.norm(expected)
 
 
 @pytest.mark.parametrize("sim_name", SIMS)
@@ -218,8 +224,9 @@ def test_momentum_balance_with_contacts(robot, model, sim_name):
     gravity_impulse = np.array([0.0, 0.0, -mass * G]) * (len(trace.sensors) - start - 1) * trace.dt
     residual = momentum_change - (impulse + contact_impulse + gravity_impulse)
     # Contact forces are sampled once per 2 ms control period, the physics runs at 1 ms.
-    assert np.abs(residual[:2]).max() <= 0.1 * np.abs(impulse).max()
-    assert abs(residual[2]) <= 0.01 * mass * G * 1.1
+    # measured 0.014 N s horizontally, 0.012 / 0.002 N s vertically, of a 7.2 N s push
+    assert np.abs(residual[:2]).max() <= 0.02 * np.abs(impulse).max()
+    assert abs(residual[2]) <= 0.15
     # the friction opposed the push
     assert contact_impulse[0] < 0
     assert contact_impulse[1] < 0
@@ -240,10 +247,10 @@ def test_scene_box_supports_the_robot(robot, model, sim_name):
     )
     assert trace.fall_reason is None
     weight = robot.total_mass * G
-    np.testing.assert_allclose(trace.contact_force_world[-1, 2], weight, rtol=0.02)
+    np.testing.assert_allclose(trace.contact_force_world[-1, 2], weight, rtol=1e-4)
     assert trace.sensors[-1].base_position_world[2] == pytest.approx(
-        initial.base_position_world[2], abs=0.01
-    )
+        initial.base_position_world[2], abs=0.001
+    )  # measured 3e-9 of m g, 0.07 mm
 
 
 @pytest.mark.parametrize("sim_name", SIMS)
@@ -271,7 +278,7 @@ def test_palm_contact_is_sensed(robot, model, sim_name):
     assert np.mean([s.contact_wrench_limb[hand, 2] for s in window]) > 5.0
     assert not any(s.contact_flag_limb[robot.limb_names.index("right_hand")] for s in window)
     mean_vertical = trace.contact_force_world[-250:, 2].mean()
-    np.testing.assert_allclose(mean_vertical, robot.total_mass * G, rtol=0.02)
+    np.testing.assert_allclose(mean_vertical, robot.total_mass * G, rtol=3e-3)  # 3.3e-4
 
 
 @pytest.mark.parametrize("sim_name", SIMS)

@@ -15,9 +15,11 @@ in parallel, and the weld's share of the load is its stiffness over the sum: mea
 the wrists, the load on the forearm: 4.7 N m about the palm), the grasped hand's wrench changed
 by the load's to 0.08 N and 0.02 N m
 in both engines (MuJoCo's weld nearly rigid, `sims.mujoco_sim.GRASP_SOLIMP`, PyBullet's rigid;
-with MuJoCo's default impedance the arm's servos took a third of the moment about x). The
-tolerances are 1 N and 0.1 N m. The load's effect is isolated from the slow settling of the
-pressed stance by subtracting the same episode without the load, period by period.
+with MuJoCo's default impedance the arm's servos took a third of the moment about x); with the
+wrists and the load on the hand link, 0.15 N and 0.011 N m in MuJoCo, 2e-5 N and 1.7e-4 N m in
+PyBullet (2026-12-03). The tolerances are 0.5 N and 0.05 N m. The load's effect is isolated
+from the slow settling of the pressed stance by subtracting the same episode without the load,
+period by period.
 """
 
 import numpy as np
@@ -139,7 +141,7 @@ def test_a_grasp_holds_a_pull_that_a_pressed_palm_cannot(robot, model, initial, 
         assert trace["fall"] is None
     start, end = period(loaded, LOAD_START), len(loaded["time"]) - 1
 
-    # palm contact only: pressing before the pull (about 80 N); the pull unloads it and drags
+    # palm contact only: pressing before the pull (41-44 N); the pull unloads it and drags
     # the hand away (along the bar and off its edge: 0.12-0.14 m)
     assert contact_only["flag"][start]
     assert contact_only["wrench"][start, 2] > 20.0
@@ -156,9 +158,9 @@ def test_a_grasp_holds_a_pull_that_a_pressed_palm_cannot(robot, model, initial, 
     settled = slice(period(loaded, LOAD_START + 0.2), end + 1)
     change = (loaded["wrench"] - unloaded["wrench"])[settled].mean(axis=0)
     expected = expected_wrench(model, loaded["state"][end], LOAD)
-    np.testing.assert_allclose(change[:3], expected[:3], rtol=0, atol=1.0)  # [N]
-    np.testing.assert_allclose(change[3:], expected[3:], rtol=0, atol=0.1)  # [N m]
-    # the moment is not negligible next to the 0.1 N m tolerance (0.4 N m: the hand link's
+    np.testing.assert_allclose(change[:3], expected[:3], rtol=0, atol=0.5)  # [N]
+    np.testing.assert_allclose(change[3:], expected[3:], rtol=0, atol=0.05)  # [N m]
+    # the moment is not negligible next to the 0.05 N m tolerance (0.4 N m: the hand link's
     # centre of mass is 1 cm from the palm; a sign or frame error would be off by 0.8 N m)
     assert abs(expected[4]) > 0.3
 
