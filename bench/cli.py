@@ -250,6 +250,10 @@ def _output_file(flag: str, text: str, make_parents: bool) -> Path:
     return path
 
 
+GIF_MIN_FPS = 0.002
+"""[1/s] the lowest frame rate of a GIF replay: a GIF frame's delay is 16 bits of 10 ms."""
+
+
 def _write_failed(flag: str, path: str | Path, exc: OSError) -> UsageError:
     """One line for an output file that could not be written after all."""
     reason = exc.strerror or str(exc) or type(exc).__name__
@@ -904,6 +908,17 @@ def _run(args: argparse.Namespace) -> int:
         speed=args.speed,
         robot=args.robot,
     )
+    if args.duration is not None and SCENARIOS[args.scenario].takes_push:
+        from bench.runner import _pushed
+        from robots.model import cached_model
+        from robots.robot_registry import make_robot
+
+        pushes = _pushed(spec, cached_model(make_robot(args.robot))).pushes
+        if pushes and pushes[0].time >= args.duration:
+            raise UsageError(
+                f"--duration {args.duration:g} s ends before the push at {pushes[0].time:g} s "
+                f"of {args.scenario!r}"
+            )
     result = run_episode(spec)
     summary = summary_json_ready(result.summary)
     _print_summary(summary, args.json)  # first: a trace that cannot be written loses nothing
@@ -1266,18 +1281,37 @@ def _speed(args: argparse.Namespace) -> int:
         out.mkdir(parents=True, exist_ok=True)
     except OSError as exc:
         raise _write_failed("--out", out, exc) from None
-    trials = run_speed_protocol(controllers, sims, protocol, workers=args.workers)
+    for name in ("speed.parquet", "speed.md"):  # before the search, not after its hours
+        _output_file("--out", str(out / name), make_parents=False)
+    try:
+        trials = run_speed_protocol(controllers, sims, protocol, workers=args.workers)
+    except KeyboardInterrupt:
+        print(
+            "centrobench speed: interrupted; nothing written (the table is written when every "
+            "search has ended)",
+            file=sys.stderr,
+        )
+        return 130
     table = speed_table(trials)
-    trials.to_parquet(out / "speed.parquet")
-    (out / "speed.md").write_text(table.to_markdown(index=False, floatfmt=".4g") + "\n")
     with _pd_options():
         print(table.to_string(index=False))
+    try:
+        trials.to_parquet(out / "speed.parquet")
+        (out / "speed.md").write_text(table.to_markdown(index=False, floatfmt=".4g") + "\n")
+    except OSError as exc:
+        raise _write_failed("--out", out, exc) from None
     return 0
 
 
 def _replay(args: argparse.Namespace) -> int:
     from bench.replay import ReplayError, replay
 
+    _output_file("--out", args.out, make_parents=True)  # before the episode runs again
+    if str(args.out).lower().endswith(".gif") and args.fps < GIF_MIN_FPS:
+        raise UsageError(
+            f"--fps {args.fps:g}: a GIF's frame lasts at most 655 s, so a .gif needs --fps of "
+            f"at least {GIF_MIN_FPS:g}"
+        )
     try:
         path = replay(args.results, args.episode_id, args.out, fps=args.fps)
     except ReplayError as exc:
@@ -1314,9 +1348,9 @@ def _report(args: argparse.Namespace) -> int:
     from reports.build import build_report
 
     out = args.out or args.results[0]
-    if args.replays:
-        _make_replays(args.results, out)
     try:
+        if args.replays:
+            _make_replays(args.results, out)
         paths = build_report(args.results, out, benchmark_json=args.benchmark_json)
     except FileNotFoundError as exc:
         if exc.filename is None:  # no results: build_report's own one-line message

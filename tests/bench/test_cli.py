@@ -474,3 +474,53 @@ def test_the_sweeps_first_line_counts_n_a_rows_apart_from_episodes_done(tmp_path
     assert main([*argv, "--resume"]) == 0
     first = capsys.readouterr().err.splitlines()[0]
     assert first.startswith("sweep 'sweep': 2 episodes (1 n/a, 1 done, 0 to run) -> ")
+
+
+def _one_line_refusal(result: subprocess.CompletedProcess) -> str:
+    assert result.returncode == 2, result.stderr
+    assert "Traceback" not in result.stderr
+    lines = [line for line in result.stderr.splitlines() if line.startswith("centrobench")]
+    assert len(lines) == 1, result.stderr
+    return lines[0]
+
+
+def test_run_refuses_a_duration_that_ends_before_the_push():
+    """`stand_push` pushes at 2 s: a 1.9 s episode would report "ok" for a push never given."""
+    line = _one_line_refusal(
+        run_cli(
+            "run", "--controller", "hold+posture", "--sim", "mujoco", "--scenario",
+            "stand_push", "--push-impulse", "40", "--duration", "1.9",
+        )
+    )  # fmt: skip
+    assert "--duration 1.9 s ends before the push at 2 s" in line
+
+
+def test_report_with_replays_of_a_folder_without_results_is_one_line(tmp_path):
+    line = _one_line_refusal(run_cli("report", str(tmp_path), "--replays"))
+    assert "no readable episode results" in line
+
+
+def test_replay_checks_its_output_before_it_runs_the_episode_again(tmp_path):
+    """A GIF's frame delay is 16 bits of 10 ms (at most 655 s: --fps 0.001 overflowed inside
+    PIL), and an --out below a file is refused before the episode is run again (it said "File
+    exists" after running it)."""
+    line = _one_line_refusal(
+        run_cli("replay", str(tmp_path), "e1", "--out", str(tmp_path / "x.gif"), "--fps", "0.001")
+    )
+    assert "a .gif needs --fps of at least 0.002" in line
+    (tmp_path / "afile").write_text("")
+    line = _one_line_refusal(
+        run_cli("replay", str(tmp_path), "e1", "--out", str(tmp_path / "afile" / "x.html"))
+    )
+    assert "is not a folder" in line
+
+
+def test_speed_checks_its_output_files_before_the_search(tmp_path):
+    """A directory where speed.parquet goes: refused at once, not after the whole search."""
+    (tmp_path / "speed.parquet").mkdir()
+    line = _one_line_refusal(
+        run_cli(
+            "speed", "--controllers", "hold+posture", "--sims", "mujoco", "--out", str(tmp_path)
+        )
+    )
+    assert "speed.parquet is a directory" in line
