@@ -798,6 +798,20 @@ def _compare(args: argparse.Namespace) -> int:
         raise UsageError(
             f"unknown scenario {args.scenario!r}; choose one of: {', '.join(SCENARIOS)}"
         )
+    from bench.controllers import ControllerSpec, refusal
+    from estimators import DEFAULT_ESTIMATOR
+
+    for name in args.planners:  # as `run` refuses them, and a sweep makes them n/a
+        reason = refusal(ControllerSpec(name, args.stabilizer), args.scenario, DEFAULT_ESTIMATOR)
+        if reason is not None:
+            raise UsageError(reason)
+    if len(set(args.planners)) != len(args.planners) or len(set(args.sims)) != len(args.sims):
+        raise UsageError(
+            f"--planners {','.join(args.planners)} --sims {','.join(args.sims)}: a name twice "
+            "runs the same episodes twice"
+        )
+    if args.formulations and not args.horizons:
+        raise UsageError("--formulations times the MPC's formulations: it goes with --horizons")
     formulations = args.formulations or list(FORMULATIONS)
     for name in formulations:
         if name not in FORMULATIONS:

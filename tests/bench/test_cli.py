@@ -524,3 +524,22 @@ def test_speed_checks_its_output_files_before_the_search(tmp_path):
         )
     )
     assert "speed.parquet is a directory" in line
+
+
+def test_compare_refuses_what_run_refuses_and_flags_that_would_do_nothing():
+    """`compare` ran `hold` + `direct_centroidal` (no five-mass estimator to give the tilt) and
+    reported "ok"; it repeated a planner named twice; --formulations without --horizons was
+    ignored. Each is now one line before anything runs."""
+    line = _one_line_refusal(
+        run_cli(
+            "compare", "--planners", "hold", "--stabilizer", "direct_centroidal", "--sims",
+            "mujoco", "--scenario", "stand",
+        )
+    )  # fmt: skip
+    assert "reads inertia_tilt" in line
+    line = _one_line_refusal(run_cli("compare", "--planners", "hold,hold", "--sims", "mujoco"))
+    assert "a name twice" in line
+    line = _one_line_refusal(
+        run_cli("compare", "--planners", "linear_mpc", "--formulations", "dense:daqp")
+    )
+    assert "goes with --horizons" in line
