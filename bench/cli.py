@@ -1377,6 +1377,20 @@ def _report(args: argparse.Namespace) -> int:
     return 0
 
 
+NAMED_OPTIONS = ("out", "estimator", "controller", "planner", "stabilizer", "whole_body", "spec")
+"""Options whose empty value would silently mean their default (`_refuse_empty`)."""
+
+
+def _refuse_empty(args: argparse.Namespace) -> None:
+    """An option given as "" is refused: `--estimator ""` ran with the default estimator and
+    `--out ""` wrote to the default folder (or the working directory) without a word."""
+    for name in NAMED_OPTIONS:
+        value = getattr(args, name, None)
+        if isinstance(value, str) and not value.strip():
+            flag = "--" + name.replace("_", "-")
+            raise UsageError(f"{flag} is empty; give a value or leave the option out")
+
+
 def main(argv: Sequence[str] | None = None) -> int:
     parser = build_parser()
     try:
@@ -1384,6 +1398,7 @@ def main(argv: Sequence[str] | None = None) -> int:
         if args.command is None:
             parser.print_help()
             return 0
+        _refuse_empty(args)
         commands = {
             "robot": _robot,
             "check": _check,

@@ -543,3 +543,18 @@ def test_compare_refuses_what_run_refuses_and_flags_that_would_do_nothing():
         run_cli("compare", "--planners", "linear_mpc", "--formulations", "dense:daqp")
     )
     assert "goes with --horizons" in line
+
+
+@pytest.mark.parametrize(
+    "argv",
+    [
+        ["run", "--controller", "hold+posture", "--sim", "mujoco", "--scenario", "stand",
+         "--estimator", ""],
+        ["sweep", "--controllers", "hold+posture", "--sims", "mujoco", "--scenarios", "stand",
+         "--out", ""],
+        ["report", "results/x", "--out", ""],
+    ],
+)  # fmt: skip
+def test_an_empty_option_is_refused_not_taken_for_its_default(argv):
+    line = _one_line_refusal(run_cli(*argv))
+    assert "is empty; give a value or leave the option out" in line
