@@ -1289,6 +1289,11 @@ def _speed(args: argparse.Namespace) -> int:
             replicas=args.replicas,
         )
     except ValueError as exc:
+        if not 0 < args.increment <= args.maximum:  # the protocol's start is --increment here
+            raise UsageError(
+                f"speed: --increment {args.increment:g} (the first speed tried) must be "
+                f"positive and at most --maximum {args.maximum:g}"
+            ) from None
         raise UsageError(f"speed: {exc}") from None
     out = Path(args.out)
     try:
@@ -1362,6 +1367,8 @@ def _report(args: argparse.Namespace) -> int:
     from reports.build import build_report
 
     out = args.out or args.results[0]
+    if Path(out).is_file():
+        raise UsageError(f"--out {out} is a file; give a folder for the report")
     try:
         if args.replays:
             _make_replays(args.results, out)

@@ -558,3 +558,16 @@ def test_compare_refuses_what_run_refuses_and_flags_that_would_do_nothing():
 def test_an_empty_option_is_refused_not_taken_for_its_default(argv):
     line = _one_line_refusal(run_cli(*argv))
     assert "is empty; give a value or leave the option out" in line
+
+
+def test_speed_and_report_name_the_flag_that_is_wrong(tmp_path):
+    line = _one_line_refusal(
+        run_cli(
+            "speed", "--controllers", "hold+posture", "--out", str(tmp_path), "--increment",
+            "0.5", "--maximum", "0.1",
+        )
+    )  # fmt: skip
+    assert "--increment 0.5 (the first speed tried) must be positive and at most --maximum" in line
+    (tmp_path / "report.md").write_text("")
+    line = _one_line_refusal(run_cli("report", str(tmp_path), "--out", str(tmp_path / "report.md")))
+    assert "is a file; give a folder for the report" in line
