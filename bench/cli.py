@@ -229,15 +229,20 @@ def _sweep_name(text: str) -> str:
     return text
 
 
-def _output_file(flag: str, text: str, make_parents: bool) -> Path:
+def _output_file(flag: str, text: str, make_parents: bool, suffix: str | None = None) -> Path:
     """Refuse an output file that cannot be written, before anything runs: an existing
     directory, a path below a file, a missing folder (unless `make_parents`: the writer
-    creates it) or a folder without write permission. Touches nothing."""
+    creates it) or a folder without write permission; with `suffix` (".parquet", ".csv"),
+    also a name with another ending, since the writer's format is fixed (`run --out t.csv`
+    wrote Parquet into t.csv). Touches nothing."""
     path = Path(text)
     if "\0" in text:
         raise UsageError(f"{flag} {text!r} is no valid path (it holds a NUL character)")
     if path.is_dir():
         raise UsageError(f"{flag} {text} is a directory; give a file name")
+    if suffix is not None and path.suffix.lower() != suffix:
+        kind = suffix.removeprefix(".").capitalize() if suffix != ".csv" else "CSV"
+        raise UsageError(f"{flag} {text}: the file is written as {kind}; name it FILE{suffix}")
     folder = path.parent
     if not make_parents and not folder.exists():
         raise UsageError(f"{flag} {text}: folder {folder} does not exist")
@@ -820,9 +825,9 @@ def _compare(args: argparse.Namespace) -> int:
             )
     horizons_out = None
     if args.out:
-        _output_file("--out", args.out, make_parents=False)
+        _output_file("--out", args.out, make_parents=False, suffix=".csv")
         if args.horizons:
-            horizons_out = args.out.replace(".csv", "") + "_horizons.csv"
+            horizons_out = str(Path(args.out).with_suffix("")) + "_horizons.csv"
             _output_file("--out", horizons_out, make_parents=False)
     n = len(args.planners) * len(args.sims)
     print(f"running {n} episodes ({args.scenario}) ...", file=sys.stderr, flush=True)
@@ -907,7 +912,8 @@ def _run(args: argparse.Namespace) -> int:
             f"--speed is for the scenarios {', '.join(WALKS_WITH_SPEED)}, not {args.scenario!r}"
         )
     if args.out:
-        _output_file("--out", args.out, make_parents=True)  # write_trace makes the folders
+        # write_trace makes the folders
+        _output_file("--out", args.out, make_parents=True, suffix=".parquet")
     spec = EpisodeSpec(
         planner=args.planner,
         stabilizer=args.stabilizer,
@@ -951,8 +957,7 @@ def _run(args: argparse.Namespace) -> int:
 
 def footsteps_file(trace_path: str) -> str:
     """Where `run --out FILE.parquet` writes the steps taken: FILE.footsteps.parquet."""
-    stem = trace_path.removesuffix(".parquet")
-    return f"{stem}.footsteps.parquet"
+    return f"{Path(trace_path).with_suffix('')}.footsteps.parquet"
 
 
 def strict_json(value: Any) -> Any:

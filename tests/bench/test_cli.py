@@ -6,7 +6,7 @@ import sys
 
 import pytest
 
-from bench.cli import main
+from bench.cli import footsteps_file, main
 from robots.humanoid import NOMINAL_MASS_KG
 from sims import base
 
@@ -571,3 +571,28 @@ def test_speed_and_report_name_the_flag_that_is_wrong(tmp_path):
     (tmp_path / "report.md").write_text("")
     line = _one_line_refusal(run_cli("report", str(tmp_path), "--out", str(tmp_path / "report.md")))
     assert "is a file; give a folder for the report" in line
+
+
+@pytest.mark.parametrize(
+    ("argv", "expected"),
+    [
+        # `run --out t.csv` wrote Parquet into t.csv, and `compare --out t.parquet` wrote CSV
+        (
+            [*RUN, "--out", "t.csv"],
+            "--out t.csv: the file is written as Parquet; name it FILE.parquet",
+        ),
+        (
+            ["compare", "--planners", "hold", "--sims", "mujoco", "--out", "t.parquet"],
+            "--out t.parquet: the file is written as CSV; name it FILE.csv",
+        ),
+        ([*RUN, "--out", "trace"], "name it FILE.parquet"),
+    ],
+)
+def test_an_output_named_for_another_format_is_refused(argv, expected, nothing_runs, capsys):
+    assert expected in refused(argv, capsys)
+    assert list(nothing_runs.iterdir()) == []
+
+
+def test_the_steps_taken_are_written_beside_the_trace():
+    assert footsteps_file("out/walk.parquet") == "out/walk.footsteps.parquet"
+    assert footsteps_file("out/walk.PARQUET") == "out/walk.footsteps.parquet"
