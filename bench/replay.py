@@ -58,6 +58,8 @@ def find_episode(results: str | Path, episode_id: str):
         raise ReplayError(f"{root} has no sweep.json: not a sweep's result directory")
     try:
         record = json.loads(record_path.read_text())
+        if not isinstance(record, dict) or "spec" not in record:
+            raise SpecError("it has no 'spec' table")  # a list's record["spec"]: Python's words
         spec = spec_from_mapping(record["spec"])
     except (OSError, ValueError, KeyError, TypeError, SpecError) as exc:
         raise ReplayError(f"{record_path} is not a readable sweep record: {exc}") from None

@@ -68,7 +68,10 @@ def read_results(root: str | Path) -> tuple[pd.DataFrame, dict | None, list[str]
             record = json.loads(record_path.read_text())
         except (OSError, UnicodeDecodeError, json.JSONDecodeError) as exc:
             notes.append(f"sweep.json: unreadable ({exc})")
-    if not isinstance(record, dict) or not isinstance(record.get("spec"), dict):
+    if record is not None and (
+        not isinstance(record, dict) or not isinstance(record.get("spec"), dict)
+    ):
+        notes.append("sweep.json: not a sweep record (no 'spec' table)")  # was left unsaid
         record = None
     return episodes, record, notes
 

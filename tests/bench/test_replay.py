@@ -79,6 +79,17 @@ def test_replay_command_refuses_unknown_episodes_and_files_in_one_line(sweep, ca
     assert "has no sweep.json" in capsys.readouterr().err
 
 
+@pytest.mark.parametrize("record", ["[1, 2]", '{"name": "x"}', '"spec"'])
+def test_replay_of_a_record_without_a_spec_table_says_so(record, tmp_path, capsys):
+    (tmp_path / "sweep.json").write_text(record)  # valid JSON of another shape
+    assert main(["replay", str(tmp_path), "e1", "--out", str(tmp_path / "x.html")]) == 2
+    err = capsys.readouterr().err.strip().splitlines()
+    assert err == [
+        f"centrobench: error: {tmp_path}/sweep.json is not a readable sweep record: "
+        "it has no 'spec' table"
+    ]  # a list's was "list indices must be integers or slices, not str"
+
+
 def test_report_with_replays_draws_the_walk_once_and_lists_it(sweep, tmp_path, capsys):
     root, _ = sweep
     out = tmp_path / "report"

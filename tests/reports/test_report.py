@@ -666,3 +666,19 @@ def test_rows_of_an_older_version_are_read_beside_today_s_in_order(results, tmp_
         episodes.loc[others, "com_error_rms_m"], expected.loc[others, "com_error_rms_m"]
     )
     assert episodes.loc[others, "com_error_rms_m"].notna().any()
+
+
+@pytest.mark.parametrize("content", ["[1, 2]", '{"name": "x"}'])
+def test_a_sweep_record_of_another_shape_is_left_out_with_a_note(results, tmp_path, content):
+    """A sweep.json that is JSON but no sweep record was dropped without a word."""
+    import shutil
+
+    from reports.build import read_results
+
+    root = tmp_path / "copy"
+    shutil.copytree(results[0], root)
+    (root / "sweep.json").write_text(content)
+    episodes, record, notes = read_results(root)
+    assert record is None
+    assert notes == ["sweep.json: not a sweep record (no 'spec' table)"]
+    assert len(episodes) == len(list((root / "episodes").glob("*.parquet")))
