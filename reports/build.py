@@ -228,6 +228,14 @@ def sections(
             tables.status_table(episodes),
         ),
         (
+            "Not run",
+            "The n/a episodes, per controller and reason: a controller that cannot run a "
+            "scenario (it lacks a capability the scenario needs, or reads a state its "
+            "estimator does not give) is not run, and the push, threshold and degradation "
+            "tables leave these episodes out.",
+            tables.refusal_table(episodes),
+        ),
+        (
             "Latency per stage (Murooka Table IV)",
             "Median and p99 per control period [µs] in each walk: Table IV's rows (Total "
             "control = centroidal_control, the planner and the stabilizer with the feedback "
@@ -297,7 +305,8 @@ def sections(
             "CoM tracking error RMS [mm]; where the feet landed against the plan's footsteps: "
             "mean touchdown time error [ms] (negative: early, as a swing leg that sags lands) "
             "and mean touchdown position error [mm]; distance from the gait command's goal at "
-            "the end [cm].",
+            "the end [cm]; medians over the walks that did not fall (walks ok: how many; a "
+            "fall's errors measure the fall).",
             tables.walking_quality_table(episodes),
         ),
     ]
@@ -346,7 +355,8 @@ def _headline_sections(
                 f"survived: no fall within {survival_time:g} s after it. Counted apart: the "
                 "episodes in which the robot fell before the push came (they say nothing of "
                 "push recovery) and those not judged (an error of the set-up, simulator or "
-                "worker, or a timeout; a controller's own failure counts as not surviving). "
+                "worker, or a timeout; a controller's own failure counts as not surviving); "
+                "a controller that cannot run the pushes is under Not run. "
                 "With several levels, the push survival tables below give each.",
                 survival,
             )
@@ -358,7 +368,9 @@ def _headline_sections(
                 "Per controller and simulator (`centrobench speed`): the highest commanded "
                 "forward speed v_ref it walked a walk at without falling (a ladder of speeds "
                 "refined by bisection), v_fell the lowest speed tried above it, which it did "
-                "not walk (the answer lies between them), the mean speed v walked at v_ref "
+                "not walk (the answer lies between them; v_fell ended: how, where a timeout "
+                "or an error, not a fall, would make v_ref a lower bound), the mean speed v "
+                "walked at v_ref "
                 "over the steady steps, "
                 "and eq. 18's e_c [m s], e_z [m s], e_v [m/s] against its own plan there; "
                 "walks: how many the search took. With replicas (`centrobench speed "
@@ -379,10 +391,12 @@ def _headline_sections(
                 "linear MPC on (B) and (C)); Sherikov et al.'s reaching tests with the final "
                 "hand error. outcome: how the episode ended (a reach passed when its hand ended "
                 f"within {100 * tables.REACH_PASS_HAND_ERROR_M:g} cm of the target; numbers up "
-                "to a fall; n/a: the controller cannot run it). Where ours and the paper's "
-                "are not the same experiment: our (B) hands grasp the rails (a weld that can "
-                "pull), so its planned and desired projection errors are zero by "
-                "construction, where the paper's hands were most likely pressed on them; a "
+                "to a fall; n/a: the controller cannot run it, why under Not run). Where ours "
+                "and the paper's are not the same experiment: our (B) hands grasp the rails "
+                "(a weld that can pull), so its planned and desired projection errors are zero by "
+                "construction, where the paper's hands were most likely pressed on them "
+                '(our variant with the hands resting on the rails, "(B) ... hands resting '
+                '(ours)", is set beside the same figures); a '
                 "motion that fell was measured only up to its fall (the outcome says when), "
                 "not over the paper's whole motion, and a reach that fell has no hand error "
                 "(the hand's distance as the robot toppled); a controller whose planner does "
@@ -425,7 +439,10 @@ def _headline_sections(
                 "simulator, the band between the simulators (low to high) and their difference "
                 "(MuJoCo minus PyBullet): push survival over all of the protocol's levels [%], "
                 "and from the nominal walk, when it did not fall (a fall's errors measure the "
-                "fall), the CoM tracking error and the eq. 18 errors. Not here: the control "
+                "fall), the CoM tracking error and the eq. 18 errors; what each value is from "
+                "(a rate's pushes survived / judged with its 95 % Wilson interval, a median's "
+                "walks), so that a difference within the intervals is not read as a "
+                "disagreement. Not here: the control "
                 "time (the controller's code on this machine, §4) and the planned projection "
                 "error (the plan's, the same in both).",
                 agreement,

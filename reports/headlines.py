@@ -16,7 +16,13 @@ import math
 import pandas as pd
 
 from reports.outcomes import failure_label, is_controller_failure
-from reports.paper_figures import MOTION_LABELS, PAPER_SEC_V_G, PAPER_TABLE_IV_US
+from reports.paper_figures import (
+    MOTION_LABELS,
+    PAPER_SCENARIO,
+    PAPER_SEC_V_G,
+    PAPER_TABLE_IV_US,
+    VARIANT_LABELS,
+)
 from reports.robustness import nominal
 from reports.statistics import median_interval
 from reports.tables import (
@@ -36,6 +42,8 @@ REACH_LABELS = {
 
 TABLE_IV_ROWS = (
     ("centroidal_control", "Table IV total control [µs], median"),
+    ("reference", "Table IV calculate reference [µs], median"),
+    ("preview", "Table IV preview control [µs], median"),
     ("projection", "Table IV project planned wrench [µs], median"),
     ("distribution", "Table IV distribute desired wrench [µs], median"),
 )
@@ -73,14 +81,19 @@ def paper_benchmarks(episodes: pd.DataFrame) -> pd.DataFrame:
     detected); one whose planner drives no hand (`drives_hand`) has its reach outcome marked
     "no hand task" and no hand error."""
     rows = nominal(episodes)
-    rows = rows[rows["scenario"].isin([*MOTION_LABELS, *REACH_LABELS]) & rows["push_phase"].isna()]
+    benchmarks = [*MOTION_LABELS, *VARIANT_LABELS, *REACH_LABELS]
+    rows = rows[rows["scenario"].isin(benchmarks) & rows["push_phase"].isna()]
     result = []
     for _, row in rows.sort_values([*KEYS, "scenario"]).iterrows():
         scenario, planner = row["scenario"], row.get("planner")
         base = {
             "controller": row["controller"],
             "sim": row["sim"],
-            "benchmark": MOTION_LABELS.get(scenario) or REACH_LABELS[scenario],
+            "benchmark": (
+                MOTION_LABELS.get(scenario)
+                or VARIANT_LABELS.get(scenario)
+                or REACH_LABELS[scenario]
+            ),
             "outcome": outcome(row),
         }
         if row["status"] not in ("ok", "fell"):
@@ -101,12 +114,13 @@ def paper_benchmarks(episodes: pd.DataFrame) -> pd.DataFrame:
             quantity = "final hand error [cm]"
             result.append({**base, "quantity": quantity, "ours": ours, "paper": math.nan})
             continue
-        table_iv = PAPER_TABLE_IV_US[scenario] if planner == "preview_control" else {}
+        paper_scenario = PAPER_SCENARIO.get(scenario, scenario)  # a variant: the paper's motion
+        table_iv = PAPER_TABLE_IV_US[paper_scenario] if planner == "preview_control" else {}
         for stage, label in TABLE_IV_ROWS:
             ours = _number(row.get(f"lat_{stage}_median_us"))
             paper = table_iv.get(stage, math.nan)
             result.append({**base, "quantity": label, "ours": ours, "paper": paper})
-        sec_v_g = PAPER_SEC_V_G.get((scenario, planner), {})
+        sec_v_g = PAPER_SEC_V_G.get((paper_scenario, planner), {})
         for column, label in SEC_V_G_ROWS:
             ours = _number(row.get(column))
             paper = sec_v_g.get(column, math.nan)

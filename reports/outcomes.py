@@ -15,6 +15,12 @@ push tables count it apart, "fell before the push" (`judged_push`), instead of a
 survived (until 2026-11-28 it was one: a controller that cannot stand read "0/20" beside the
 others, and won or lost paired tests on pushes it never received).
 
+Neither: an "n/a" row, an episode never run because the controller cannot run its scenario
+(`bench.controllers.refusal`, the reason in `error`). It is no push, no walk and no failure:
+the push and threshold tables leave it out, and the report lists it with its reason under
+"Not run" (`refusal_reason`; until 2026-12-03 a refused controller's pushes read "10 not
+judged" and "incomplete 10", the reason nowhere).
+
 One definition for the result rows (`bench.dataset`) and every report table.
 """
 
@@ -70,3 +76,15 @@ def judged_push(rows: pd.DataFrame) -> pd.Series:
     """Per row: judged (`judged`) and not ended before its push (`ended_before_push`): the
     episodes that say whether the controller came through its push."""
     return judged(rows) & ~ended_before_push(rows)
+
+
+def ran(rows: pd.DataFrame) -> pd.DataFrame:
+    """The rows of episodes that were run: without the "n/a" rows (see the module)."""
+    return rows[rows["status"] != "n/a"]
+
+
+def refusal_reason(error: object) -> str:
+    """Why an "n/a" row was not run, from its `error` ("n/a: <reason>"); "" if none."""
+    if not isinstance(error, str):
+        return ""
+    return error.removeprefix("n/a:").strip()

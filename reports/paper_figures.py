@@ -44,6 +44,10 @@ PAPER_SCENARIO = {"handrail_stairs_resting": "handrail_stairs"}
 """Our variants of the paper's motions and the motion whose published numbers they are set
 beside ((B) with the hands resting on the rails instead of grasping them)."""
 
+VARIANT_LABELS = {"handrail_stairs_resting": "(B) handrail stairs, hands resting (ours)"}
+"""How the report names the variants of `PAPER_SCENARIO`, set beside the paper's figures of
+the motion they vary."""
+
 MOTION_FIGURES = {
     "hand_wall": "Fig. 5",
     "handrail_stairs": "Fig. 6",

@@ -16,7 +16,7 @@ import numpy as np
 import pandas as pd
 from scipy import stats
 
-from reports.outcomes import ended_before_push, judged, judged_push
+from reports.outcomes import ended_before_push, judged, judged_push, ran
 from reports.statistics import (
     MIN_RATE_TRIALS,
     count_cell,
@@ -75,8 +75,9 @@ def nominal(episodes: pd.DataFrame) -> pd.DataFrame:
 
 def protocol_pushes(episodes: pd.DataFrame, phase: str) -> pd.DataFrame:
     """The pushes of the Ficht & Behnke protocol in `phase`: nominal, replica 0, random
-    directions, in the middle of the swing (walking)."""
-    rows = nominal(episodes)
+    directions, in the middle of the swing (walking); not the "n/a" rows, never run
+    (`reports.outcomes.ran`)."""
+    rows = nominal(ran(episodes))
     rows = rows[rows["push_phase"] == phase]
     if "push_direction_name" in rows:
         rows = rows[rows["push_direction_name"].isna()]
@@ -113,7 +114,7 @@ def degradation_table(episodes: pd.DataFrame) -> pd.DataFrame:
     labels = perturbation_labels(episodes)
     if (labels == "nominal").all():
         return pd.DataFrame()
-    rows = episodes[episodes["status"] != "n/a"].copy()
+    rows = ran(episodes).copy()
     rows["is_judged"] = judged(rows).to_numpy()
     if "replica" in rows:
         rows = rows[rows["replica"].fillna(0) == 0]
@@ -232,7 +233,10 @@ def robust_threshold_table(episodes: pd.DataFrame) -> pd.DataFrame:
     push recovery). Empty without replicas."""
     if "replica" not in episodes or episodes["replica"].fillna(0).max() < 1:
         return pd.DataFrame()
+    episodes = ran(episodes)  # an "n/a" row is no push: it was "incomplete"
     rows = episodes[(perturbation_labels(episodes) == "nominal") & episodes["push_phase"].notna()]
+    if rows.empty:
+        return pd.DataFrame()
     rows = rows.assign(
         direction=rows["push_direction_name"].fillna("random")
         if "push_direction_name" in rows
@@ -369,9 +373,11 @@ def direction_table(episodes: pd.DataFrame) -> pd.DataFrame:
     as survived when `robust_required(R)` of its R replicas survived (4 of 5), without an
     interval: the replicas of one push differ only by a small seeded change of the initial
     state and the push time, so they are not independent trials, and each named direction is
-    one push. Pushes that fell before they came (`reports.outcomes.judged_push`) or without
-    R judged replicas are left out. Empty without support-relative pushes or several swing
-    fractions."""
+    one push. Pushes with a replica that fell before the push came
+    (`reports.outcomes.judged_push`) or that was not judged (an error, a timeout) are not
+    counted; "left out" says how many per row. Empty without support-relative pushes or
+    several swing fractions."""
+    episodes = ran(episodes)
     rows = episodes[perturbation_labels(episodes) == "nominal"]  # every replica
     rows = rows[rows["push_phase"] == "walking"]
     if rows.empty or "push_direction_name" not in rows:
@@ -411,7 +417,14 @@ def direction_table(episodes: pd.DataFrame) -> pd.DataFrame:
         index=[*KEYS, "fraction", "direction"], columns="level", values="cell", aggfunc="first"
     )
     levels = sorted(set(counts["push_dv_mps"]))
-    table = table[[f"dv {dv:g} m/s" for dv in levels]].fillna("").reset_index()
+    table = table[[f"dv {dv:g} m/s" for dv in levels]].fillna("")
+    # the pushes run but not counted, over the row's levels: shown, not silently dropped
+    row_keys = [*KEYS, "fraction", "direction"]
+    run = replicas.groupby(row_keys, sort=True).size()
+    counted = pushes.groupby(row_keys, sort=True).size().reindex(run.index, fill_value=0)
+    table = table.reindex(run.index, fill_value="")
+    table["left out"] = [int(n) or "" for n in run - counted]
+    table = table.reset_index()
     table.columns.name = None
     return table.rename(columns={"fraction": "swing fraction"})
 

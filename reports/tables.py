@@ -16,7 +16,14 @@ from collections.abc import Mapping
 import numpy as np
 import pandas as pd
 
-from reports.outcomes import ended_before_push, judged, judged_push
+from reports.outcomes import (
+    ENDED,
+    ended_before_push,
+    is_controller_failure,
+    judged,
+    judged_push,
+    refusal_reason,
+)
 from reports.robustness import nominal, protocol_pushes
 from reports.statistics import (
     fraction_cell,
@@ -259,12 +266,19 @@ def walking_quality_table(episodes: pd.DataFrame) -> pd.DataFrame:
     tracking error (RMS of ||c - c^p|| [mm]), where the feet landed against the plan's
     footsteps (the mean touchdown time error [ms], negative when early, and the mean
     horizontal touchdown position error [mm]) and how far from the gait command's goal the
-    walk ended [cm]; medians over a cell's walks."""
+    walk ended [cm]; medians over a cell's walks that did not fall (`walks ok`: how many of
+    the cell's walks, "k/n"; a fall's errors measure the fall, as in `agreement_table`: until
+    2026-12-03 this table took the falls in and the two disagreed)."""
     rows = walks(episodes)
+    everything = rows.groupby(KEYS, sort=True).agg(
+        status=("status", lambda s: ",".join(sorted(set(s)))),
+        walks=("status", "size"),
+        ok=("status", lambda s: int((s == "ok").sum())),
+    )
     table = (
-        rows.groupby(KEYS, sort=True)
+        rows[rows["status"] == "ok"]
+        .groupby(KEYS, sort=True)
         .agg(
-            status=("status", lambda s: ",".join(sorted(set(s)))),
             walk_speed_mps=("walk_speed_mps", "median"),
             e_com=("e_com", "median"),
             e_zmp=("e_zmp", "median"),
@@ -280,9 +294,12 @@ def walking_quality_table(episodes: pd.DataFrame) -> pd.DataFrame:
             ),
             goal_error_cm=("final_position_error_m", lambda s: 1e2 * s.median()),
         )
-        .reset_index()
+        .reindex(everything.index)
     )
-    return table
+    walked = [f"{k}/{n}" for k, n in zip(everything["ok"], everything["walks"], strict=True)]
+    table.insert(0, "walks ok", walked)
+    table.insert(0, "status", everything["status"])
+    return table.reset_index()
 
 
 AGREEMENT_QUANTITIES = (
@@ -298,20 +315,36 @@ Only what the simulator decides: not the control time (the controller's code, ti
 machine) nor the planned projection error (a property of the plan before any contact)."""
 
 
-def _headline_numbers(episodes: pd.DataFrame) -> dict[str, pd.Series]:
-    """Each of `AGREEMENT_QUANTITIES` as a Series indexed by (controller, sim)."""
-    numbers = {}
+def _headline_numbers(
+    episodes: pd.DataFrame,
+) -> tuple[dict[str, pd.Series], dict[str, pd.Series]]:
+    """Each of `AGREEMENT_QUANTITIES` as a Series indexed by (controller, sim), and what each
+    value is from, as printed: "k/n (95 % Wilson)" for a survival rate, "n walks" for a
+    walk's median."""
+    numbers, counts = {}, {}
     for phase in ("standing", "walking"):
         rates = survival_rates(episodes, phase)
         totals = rates.groupby(KEYS)[["survived", "pushes"]].sum()
-        numbers[f"{phase} push survival"] = 100.0 * totals["survived"] / totals["pushes"]
+        quantity = f"{phase} push survival"
+        numbers[quantity] = 100.0 * totals["survived"] / totals["pushes"]
+        counts[quantity] = pd.Series(
+            [
+                fraction_cell(int(k), int(n))
+                for k, n in zip(totals["survived"], totals["pushes"], strict=True)
+            ],
+            index=totals.index,
+            dtype=object,
+        )
     completed = walks(episodes)
     # a walk that fell: its errors measure the fall, not the tracking (eq. 18's are not given)
     walked = completed[completed["status"] == "ok"].groupby(KEYS)
+    walk_counts = walked.size().map(lambda n: f"{n} walk{'s' if n != 1 else ''}")
     numbers["walk CoM tracking RMS"] = 1e3 * walked["com_error_rms_m"].median()
     for name in ("e_com", "e_zmp", "e_velocity"):
         numbers[f"walk {name} (eq. 18)"] = walked[name].median()
-    return numbers
+    for quantity in list(numbers)[2:]:
+        counts[quantity] = walk_counts
+    return numbers, counts
 
 
 def agreement_table(episodes: pd.DataFrame) -> pd.DataFrame:
@@ -319,10 +352,12 @@ def agreement_table(episodes: pd.DataFrame) -> pd.DataFrame:
     (`AGREEMENT_QUANTITIES`: push survival over all of the protocol's levels, standing and
     walking [%]; the nominal walk's CoM tracking error [mm] and eq. 18 errors, from walks
     that did not fall) per controller in each simulator, the band between the simulators
-    (`band`: "low to high", `reports.statistics.simulator_band`) and MuJoCo minus PyBullet.
+    (`band`: "low to high", `reports.statistics.simulator_band`) and MuJoCo minus PyBullet;
+    "<sim> from" says what each value is from (a rate's k/n with its 95 % Wilson interval,
+    a median's number of walks: a difference inside the intervals is no disagreement).
     Rows: controller x quantity, for the quantities measured in at least one simulator."""
     columns = _AGREEMENT_COLUMNS.union(episodes.columns)
-    numbers = _headline_numbers(episodes.reindex(columns=columns))
+    numbers, counts = _headline_numbers(episodes.reindex(columns=columns))
     sims = sorted(set(episodes["sim"]))
     rows = []
     for controller in sorted(set(episodes["controller"])):
@@ -332,19 +367,28 @@ def agreement_table(episodes: pd.DataFrame) -> pd.DataFrame:
             if not any(math.isfinite(v) for v in values.values()):
                 continue
             low, high = simulator_band(values)
+            basis = {
+                f"{sim} from": counts[quantity].get((controller, sim), "")
+                if math.isfinite(values[sim])
+                else ""
+                for sim in sims
+            }
             rows.append(
                 {
                     "controller": controller,
                     "quantity": quantity,
                     "unit": unit,
                     **values,
+                    **basis,
                     "band": f"{low:.3g} to {high:.3g}",
                     "mujoco - pybullet": values.get("mujoco", math.nan)
                     - values.get("pybullet", math.nan),
                 }
             )
+    sources = [f"{sim} from" for sim in sims]
     return pd.DataFrame(
-        rows, columns=["controller", "quantity", "unit", *sims, "band", "mujoco - pybullet"]
+        rows,
+        columns=["controller", "quantity", "unit", *sims, *sources, "band", "mujoco - pybullet"],
     )
 
 
@@ -356,6 +400,27 @@ def status_table(episodes: pd.DataFrame) -> pd.DataFrame:
     """Episodes per controller x simulator by status (ok, fell, error)."""
     table = episodes.groupby([*KEYS, "status"]).size().unstack("status", fill_value=0)
     return table.reset_index()
+
+
+def refusal_table(episodes: pd.DataFrame) -> pd.DataFrame:
+    """The "n/a" rows (never run: the controller cannot run the scenario) per controller x
+    reason: the scenarios and simulators concerned and how many episodes; empty without any.
+    The push and threshold tables leave these rows out (`reports.outcomes.ran`)."""
+    rows = episodes[episodes["status"] == "n/a"]
+    if rows.empty:
+        return pd.DataFrame(columns=["controller", "reason", "scenarios", "sims", "episodes"])
+    error = rows["error"] if "error" in rows else pd.Series(None, index=rows.index)
+    rows = rows.assign(reason=[refusal_reason(e) or "?" for e in error])
+    table = (
+        rows.groupby(["controller", "reason"], sort=True)
+        .agg(
+            scenarios=("scenario", lambda s: ", ".join(sorted(set(s)))),
+            sims=("sim", lambda s: ", ".join(sorted(set(s)))),
+            episodes=("status", "size"),
+        )
+        .reset_index()
+    )
+    return table
 
 
 def benchmark_table(benchmark: dict) -> pd.DataFrame:
@@ -376,6 +441,14 @@ def benchmark_table(benchmark: dict) -> pd.DataFrame:
     return pd.DataFrame(rows)
 
 
+def _statuses_cell(statuses: pd.Series) -> str:
+    """How some episodes ended: "fell" when all alike and one, else "2 fell, 1 timeout"."""
+    counts = statuses.value_counts().sort_index()
+    if len(statuses) == 1:
+        return str(statuses.iloc[0])
+    return ", ".join(f"{n} {status}" for status, n in counts.items())
+
+
 def speed_table(trials: pd.DataFrame) -> pd.DataFrame:
     """Table 1's shape per controller x simulator: the highest commanded speed walked [m/s]
     (NaN: none), the lowest speed tried above it, which was not walked (`v_fell_mps`, NaN:
@@ -385,8 +458,20 @@ def speed_table(trials: pd.DataFrame) -> pd.DataFrame:
     a speed is walked when at least the required replicas walked it, the quality is that of
     the first replica that walked it (replica 0, unless it fell), and two more columns say how
     sure the answer is: "at v_ref", the replicas that walked the speed found, and "above",
-    those that walked the lowest speed tried above it ("k/n")."""
-    columns = [*KEYS, "v_ref_mps", "v_fell_mps", "v_mps", "e_c", "e_z", "e_v", "walks"]
+    those that walked the lowest speed tried above it ("k/n"). "v_fell ended" says how the
+    walks at v_fell ended ("fell"; a "timeout" or "error" there says nothing of the
+    controller, and the speed found is then a lower bound set by the machine)."""
+    columns = [
+        *KEYS,
+        "v_ref_mps",
+        "v_fell_mps",
+        "v_fell ended",
+        "v_mps",
+        "e_c",
+        "e_z",
+        "e_v",
+        "walks",
+    ]
     replicated = "replica" in trials.columns and trials["replica"].fillna(0).max() > 0
     if replicated:
         columns += ["at v_ref", "above"]
@@ -423,6 +508,11 @@ def speed_table(trials: pd.DataFrame) -> pd.DataFrame:
         v_ref = row["v_ref_mps"]
         above = [speed for speed in by_speed if math.isnan(v_ref) or speed > v_ref]
         row["v_fell_mps"] = min(above) if above else math.nan
+        row["v_fell ended"] = (
+            _statuses_cell(group.loc[group["speed_command_mps"] == min(above), "status"])
+            if above
+            else ""
+        )
         if replicated:
             at = by_speed.get(v_ref)
             row["at v_ref"] = f"{at[0]}/{at[1]}" if at else "–"
@@ -482,7 +572,9 @@ def reach_table(
     """Sherikov et al. 2014's Tests 1-2, one row per `reach` / `reach_push` episode: status,
     final hand error [cm] (only for an episode that ended ok with a planner that drives the
     hand, `drives_hand`), steps taken, pass (status ok and a final hand error under
-    `REACH_PASS_HAND_ERROR_M`: "yes" / "no"; "n/a (no hand task)") and the hierarchy's solve
+    `REACH_PASS_HAND_ERROR_M`: "yes" / "no"; "n/a (no hand task)"; "not judged" after a
+    timeout or an error that is not the controller's, `reports.outcomes`; "n/a (not run)")
+    and the hierarchy's solve
     time per period [ms] (mean, p99, max). Solve times come from `solve_times` (episode id ->
     {mean, p99, max} [µs], `solve_time_stats` of its stored trace), else from the row's
     `lat_hierarchy_{stat}_us` columns where it has them (the episode rows of this version keep
@@ -507,6 +599,12 @@ def reach_table(
         hand = drives_hand(row)
         stored = (solve_times or {}).get(row.get("episode_id"), {})
         passed = "yes" if row["status"] == "ok" and error < REACH_PASS_HAND_ERROR_M else "no"
+        if row["status"] == "n/a":
+            passed = "n/a (not run)"
+        elif row["status"] not in ENDED and not is_controller_failure(
+            row["status"], row.get("error_stage")
+        ):
+            passed = "not judged"  # a timeout or a simulator's error: no test of the controller
         entry = {
             "controller": row["controller"],
             "sim": row["sim"],

@@ -294,3 +294,25 @@ def test_with_replicas_the_quality_is_that_of_a_walk_that_walked():
     assert row["e_c"] == pytest.approx(0.01)  # replica 1's
     assert row["at v_ref"] == "4/5"
     assert math.isnan(row["v_fell_mps"])
+
+
+def test_a_timeout_above_the_speed_found_is_not_shown_as_a_fall():
+    """A walk at v_fell that timed out says nothing of the controller: v_ref is then a lower
+    bound set by the machine, and the table says how v_fell's walks ended."""
+
+    def trial(controller, speed, status):
+        return {"controller": controller, "sim": "mujoco", "speed_command_mps": speed,
+                "status": status, "speed_walked_mps": speed, "e_com": 0.1, "e_zmp": 0.1,
+                "e_velocity": 0.1}  # fmt: skip
+
+    trials = pd.DataFrame(
+        [
+            trial("a", 0.2, "ok"),
+            trial("a", 0.3, "timeout"),
+            trial("b", 0.2, "ok"),
+            trial("b", 0.3, "fell"),
+        ]
+    )
+    table = speed_table(trials).set_index("controller")
+    assert list(table["v_fell_mps"]) == [0.3, 0.3]
+    assert list(table["v_fell ended"]) == ["timeout", "fell"]

@@ -357,9 +357,12 @@ def test_the_report_of_a_main_job_opens_with_every_headline_table(tmp_path: Path
     ]
     assert {r[0] for r in cost if not r[2].startswith("walk")} >= {"capturability_hierarchy"}
     assert all(not r[2].startswith("walk") for r in cost if r[0] == "capturability_hierarchy")
-    # 5: the push survival in both simulators with its band and MuJoCo minus PyBullet
-    assert ["a+x", "standing push survival", "%", "75", "75", "75 to 75", "0"] in agreement
-    assert ["b+y", "standing push survival", "%", "75", "25", "25 to 75", "50"] in agreement
+    # 5: the push survival in both simulators, what each is from (k/n with the Wilson
+    # interval: 3/4 is 30-95 %, 1/4 5-70 %), the band and MuJoCo minus PyBullet
+    a_x = ["a+x", "standing push survival", "%", "75", "75", "3/4 (30-95 %)", "3/4 (30-95 %)"]
+    assert [*a_x, "75 to 75", "0"] in agreement
+    b_y = ["b+y", "standing push survival", "%", "75", "25", "3/4 (30-95 %)", "1/4 (5-70 %)"]
+    assert [*b_y, "25 to 75", "50"] in agreement
 
 
 @pytest.mark.parametrize(

@@ -499,7 +499,8 @@ def test_the_direction_table_counts_pushes_not_replicas():
 def test_a_push_whose_last_replica_was_not_judged_is_left_out_of_the_direction_table():
     """Replicas 0-2 and 4 survived, replica 3 fell: 4 of 5, survived (1/1). With replica 4 a
     timeout instead (not judged), the push has 4 judged replicas of 5 and is left out; it is
-    not judged on 3 of 4, nor on the 4 left "of 4" when the missing one is the last."""
+    not judged on 3 of 4, nor on the 4 left "of 4" when the missing one is the last; its
+    row says so ("left out": 1), where it vanished from the table until 2026-12-03."""
 
     def push(status_of):
         rows = []
@@ -513,8 +514,10 @@ def test_a_push_whose_last_replica_was_not_judged_is_left_out_of_the_direction_t
     assert complete.loc["inward", "dv 0.3 m/s"] == "1/1"
     for missing in (3, 4):
         table = push(lambda r, m=missing: "timeout" if r == m else "ok")
-        assert "inward" not in table.index  # its only push: left out
+        assert table.loc["inward", "dv 0.3 m/s"] == ""  # its only push: not counted ...
+        assert table.loc["inward", "left out"] == 1  # ... and said to be left out
         assert table.loc["outward", "dv 0.3 m/s"] == "1/1"
+        assert table.loc["outward", "left out"] == ""
 
 
 def test_robustness_walks_of_one_episode_are_counts_without_a_rate():
