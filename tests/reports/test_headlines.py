@@ -381,3 +381,31 @@ def test_an_episode_whose_controller_failed_says_which_stage(status, stage, expe
     row = pd.Series(_row(controller="c", sim="mujoco", scenario="reach_push", status=status))
     row["error_stage"], row["duration"] = stage, 3.94
     assert headlines.outcome(row) == expected
+
+
+def test_every_table_iv_row_and_the_resting_variant_are_beside_the_papers_figures():
+    """Table IV has five rows (total, calculate reference, preview control, project,
+    distribute: 186 / 22 / 10 / 56 / 56 µs for (B)); the report gave three, and left out our
+    (B) with resting hands, which `PAPER_SCENARIO` sets beside the paper's (B)."""
+    stages = dict(centroidal_control=250.0, reference=30.0, preview=12.0, projection=80.0,
+                  distribution=70.0)  # fmt: skip
+    rows = [
+        _row(
+            controller="preview_control+centroidal_feedback",
+            planner="preview_control",
+            sim="mujoco",
+            scenario=scenario,
+            status="ok",
+            **{f"lat_{stage}_median_us": us for stage, us in stages.items()},
+        )
+        for scenario in ("handrail_stairs", "handrail_stairs_resting")
+    ]
+    table = headlines.paper_benchmarks(pd.DataFrame(rows))
+    timing = table[table["quantity"].str.startswith("Table IV")]
+    for benchmark in ("(B) handrail stairs", "(B) handrail stairs, hands resting (ours)"):
+        mine = timing[timing["benchmark"] == benchmark]
+        assert list(mine["ours"]) == [250.0, 30.0, 12.0, 80.0, 70.0]
+        assert list(mine["paper"]) == [186.0, 22.0, 10.0, 56.0, 56.0]
+    resting = table[table["benchmark"].str.contains("resting")]
+    desired = resting[resting["quantity"].str.contains("desired projection error, force")]
+    assert list(desired["paper"]) == [3.7]  # Sec. V-G's (B), preview control

@@ -623,3 +623,37 @@ def test_a_controller_of_ours_is_tagged_in_the_report():
         "direct_centroidal [five_mass_kalman]",
         "direct_centroidal/lagged_inertia (ours) [five_mass_kalman]",
     ]
+
+
+def test_a_controller_refused_the_pushes_is_under_not_run_and_in_no_push_table():
+    """An "n/a" row is never run: until 2026-12-03 a refused controller's pushes read
+    "10 not judged" in section 1 and Table 2 and "incomplete 10" in the thresholds, and the
+    reason was nowhere in the report."""
+    reason = "hold+posture cannot run with the estimator x: it reads tilt"
+    refused = []
+    for index in range(10):
+        for replica in range(5):
+            row = _push("hold+posture", "mujoco", 0.3, index, False, replica=replica)
+            row.update(status="n/a", fell=None, survived=None, error=f"n/a: {reason}")
+            refused.append(row)
+    ran = [_push("a+x", "mujoco", 0.3, index, index < 7, replica=r)
+           for index in range(10) for r in range(5)]  # fmt: skip
+    episodes = pd.DataFrame(ran + refused)
+    headline = robustness.headline_survival(episodes)
+    assert list(headline["controller"]) == ["a+x"]
+    assert headline.loc[0, "mujoco"] == fraction_cell(7, 10)  # nothing "not judged" in it
+    assert list(tables.survival_table(episodes)["controller"]) == ["a+x"]
+    thresholds = robustness.robust_threshold_table(episodes)
+    assert list(thresholds["controller"]) == ["a+x"]
+    assert list(thresholds["incomplete"]) == [0]
+    not_run = tables.refusal_table(episodes)
+    assert not_run.to_dict("records") == [
+        {
+            "controller": "hold+posture",
+            "reason": reason,
+            "scenarios": "stand_push",
+            "sims": "mujoco",
+            "episodes": 50,
+        }
+    ]
+    assert tables.refusal_table(pd.DataFrame(ran)).empty
