@@ -429,12 +429,17 @@ rectangle on the rail's top face under the palm, half extents along and across t
 contact polygon (`robots.limbs.CONTACT_MARGIN`). Ours: the paper draws no hand polygon."""
 
 
-def _rail_grasp(scale: float, side: str, x: float, resting: bool = False) -> tuple[Contact, str]:
+def _rail_grasp(
+    scale: float, side: str, x: float, pad_half_length: float, resting: bool = False
+) -> tuple[Contact, str]:
     """A hand grasping the `side` rail of `handrail_stairs` at x [m] (`RAIL_PALM_EULER_DEG`):
-    the palm centre over the bar's centre line, 0.05 m (half the pad's length) above the bar's
-    top face; and the rail piece (box) that holds it there. `resting`: the same pose, but the
-    hand only pushes on the rail's top face (a unilateral contact, `RAIL_REST_HALF_EXTENTS`,
-    normal perpendicular to the rail) and the scene holds it there (`Contact.held`)."""
+    the palm centre over the bar's centre line, `pad_half_length` [m] (half the palm pad's
+    length along its x axis, the hand limb's `half_extents[0]`: 0.05 m on the humanoid,
+    0.035 m on JVRC-1, where a fixed 0.05 m held JVRC-1's palm 15 mm above the bar until
+    2026-12-03) above the bar's top face; and the rail piece (box) that holds it there.
+    `resting`: the same pose, but the hand only pushes on the rail's top face (a unilateral
+    contact, `RAIL_REST_HALF_EXTENTS`, normal perpendicular to the rail) and the scene holds
+    it there (`Contact.held`)."""
     s = scale
     run, rise = STEP_RUN * s, PAPER_STEP_RISE_M * s
     foot_of_slope = WALKWAY_START_X * s - run
@@ -449,7 +454,6 @@ def _rail_grasp(scale: float, side: str, x: float, resting: bool = False) -> tup
     else:
         piece, height, slope = "top", HANDRAIL_HEIGHT * s + PAPER_STEP_COUNT * rise, 0.0
     top = height + HANDRAIL_HALF_SECTION * s * math.hypot(1.0, slope)  # the top face at x
-    pad_half_length = 0.05 * s  # the humanoid's palm pad: 0.10 m along the palm's x axis
     sign = 1.0 if side == "left" else -1.0
     position = (x, sign * HANDRAIL_Y * s, top + pad_half_length)
     if not resting:
@@ -494,8 +498,9 @@ def handrail_stairs_motion(
     s, time_scale, poses, feet, sequence = _begin(model)
     sequence.hold(STAIRS_STAND_S * time_scale)
     hand_x = STAIRS_HAND_START * s
+    pad = {side: robot.limb(f"{side}_hand").half_extents[0] for side in ("left", "right")}
     for side in ("left", "right"):
-        grasp, box = _rail_grasp(s, side, hand_x, resting)
+        grasp, box = _rail_grasp(s, side, hand_x, pad[side], resting)
         sequence.move(
             (grasp,),
             STAIRS_REACH_S * time_scale,
@@ -526,7 +531,7 @@ def handrail_stairs_motion(
         rail_end = WALKWAY_START_X * s + (PAPER_STEP_COUNT - 1) * run + HANDRAIL_RUNOUT * s
         hand_x = min(x + STAIRS_HAND_AHEAD * s, rail_end - 0.05 * s)
         for side in ("left", "right"):
-            grasp, box = _rail_grasp(s, side, hand_x, resting)
+            grasp, box = _rail_grasp(s, side, hand_x, pad[side], resting)
             sequence.move(
                 (grasp,),
                 STAIRS_HAND_MOVE_S * time_scale,
@@ -721,8 +726,9 @@ LADDER_DOUBLE_S = 0.8
 LADDER_HAND_MOVE_S = 2.0
 """[s] at scale 1 of `ladder_motion`: standing first, each hand's first reach, each foot's
 swing to the next rung, each double support after a step or a hand's move, each hand's move
-to the next rung (its last `STAIRS_SETTLE_S` at the grasp pose, waiting), and the CoM's move
-back from over the feet to the ladder's reference once both hands grasp."""
+to the next rung (its last `STAIRS_SETTLE_S` at the grasp pose, waiting). No phase moves the
+CoM back once both hands grasp: `LADDER_X` less Sec. V-C's 0.3 m offset is 0, so the
+ladder's reference is over the standing feet from the start."""
 
 
 def _rung_top(scale: float, rung: int) -> float:
@@ -730,12 +736,17 @@ def _rung_top(scale: float, rung: int) -> float:
     return rung * PAPER_RUNG_SPACING_M * scale
 
 
-def _rung_foot(scale: float, foot: Contact, rung: int) -> Contact:
+def _rung_foot(
+    scale: float, foot: Contact, rung: int, sole_half_extents: tuple[float, float]
+) -> Contact:
     """`foot` standing on its toes on rung `rung`: level, its toe tip `LADDER_TOE_OVERHANG`
     beyond the rung's far edge, the support polygon the part of the sole over the rung
-    (`Contact.support_in_frame`, the sole frame at the sole's centre) with the inner margin."""
+    (`Contact.support_in_frame`, the sole frame at the sole's centre) with the inner margin.
+    `sole_half_extents` [m]: the foot limb's (the humanoid's 0.11 x 0.06 m; JVRC-1's
+    0.10 x 0.04 m, where the humanoid's fixed numbers put the polygon 13 mm beyond its sole's
+    edge until 2026-12-03)."""
     s = scale
-    half_length, half_width = 0.11 * s, 0.06 * s  # the humanoid's sole, robots.humanoid
+    half_length, half_width = sole_half_extents
     far_edge = LADDER_X * s + 0.5 * PAPER_RUNG_DEPTH_M * s
     x = far_edge + LADDER_TOE_OVERHANG * s - half_length
     near_edge = LADDER_X * s - 0.5 * PAPER_RUNG_DEPTH_M * s
@@ -803,7 +814,8 @@ def ladder_motion(model: RobotModel, duration: float | None = None) -> Scenario:
     retreat, clearance = LADDER_FOOT_RETREAT * s, LADDER_CLEARANCE * s
     for rung in range(1, LADDER_CLIMB_RUNGS + 1):
         for foot in ("right_foot", "left_foot"):
-            origin, target = feet[foot], _rung_foot(s, feet[foot], rung)
+            sole = robot.limb(foot).half_extents
+            origin, target = feet[foot], _rung_foot(s, feet[foot], rung, sole)
             x0, y, z0 = origin.position_world
             back = x0 - (retreat if z0 > 0 else 0.0)
             high = target.position_world[2] + clearance
