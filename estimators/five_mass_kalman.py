@@ -56,9 +56,9 @@ GRAVITY = 9.81
 HYSTERESIS_M = 0.005  # [m] at scale 1
 COM_POSITION_NOISE_M = 0.002  # [m] five-mass CoM against the true one (model, encoder errors)
 TRUNK_ACCELERATION_NOISE = 1.0  # [m/s^2] the trunk's acceleration is the CoM's only roughly
-COM_JERK_NOISE = 30.0  # [m/s^3] per sqrt(s): how fast the CoM acceleration may change
+COM_JERK_NOISE = 30.0  # [m/s^3 sqrt(s)], per sqrt(Hz): how fast the CoM acceleration may change
 TILT_NOISE_RAD = 0.002  # [rad]
-TILT_JERK_NOISE = 30.0  # [rad/s^3] per sqrt(s)
+TILT_JERK_NOISE = 30.0  # [rad/s^3 sqrt(s)], per sqrt(Hz)
 
 
 def constant_acceleration_model(dt: float, jerk: float) -> tuple[np.ndarray, np.ndarray]:
