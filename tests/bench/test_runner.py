@@ -135,10 +135,12 @@ def test_summary_contract(standing, sim):
     assert set(summary["latency_us"]) >= STAGES
     for stats in summary["latency_us"].values():
         assert 0 < stats["median"] <= stats["p99"] <= stats["max"]
-    total = summary["latency_us"]["control_total"]["median"]
-    parts = sum(summary["latency_us"][s]["median"] for s in STAGES - {"sim", "control_total"})
-    # the median of a sum against the sum of the medians: measured 0.4-0.8 % apart
-    assert total == pytest.approx(parts, rel=0.05)
+    # each period's control total is the sum of its stages (the median of the sum against the
+    # sum of the medians, asserted here to 5 % until 2026-12-03, is a timing ratio that a
+    # loaded machine broke: speed is measured in benchmarks, not asserted)
+    trace = standing[sim].trace
+    parts = sum(trace[f"t_{s}_us"] for s in sorted(STAGES - {"sim", "control_total"}))
+    np.testing.assert_allclose(trace["t_control_total_us"], parts, rtol=1e-9)
     for package in ("mujoco", "pybullet", "pin", "qpsolvers"):
         assert summary["versions"][package]
     json.dumps(summary)  # serialisable as it stands
