@@ -412,7 +412,7 @@ def _run_episode(
         if hand_limb is not None:  # whether the hand error is that of a driven hand
             summary["hand_task"] = bool(getattr(planner, "tracks_hand_targets", False))
         stabilizer = stabilizer_spec(spec.stabilizer).factory(dt)
-        estimator = make_estimator(spec.estimator, model)
+        estimator = make_estimator(spec.estimator, model, dt)
         whole_body = make_whole_body(spec.whole_body, model, dt)
         sim = make_simulator(spec.sim)
         sensor_model = (

@@ -96,7 +96,8 @@ class EstimatorBase:
         )
 
 
-# `ComponentSpec.factory(model)` builds an estimator for a `RobotModel`
+# `ComponentSpec.factory(model, dt)` builds an estimator for a `RobotModel` and control period
+# dt [s] (the period at which `estimate` is called: `Scene.control_dt`)
 ESTIMATORS = Registry(
     "estimator",
     modules=(
@@ -109,9 +110,10 @@ ESTIMATORS = Registry(
 register = ESTIMATORS.register
 
 
-def make_estimator(name: str, model: RobotModel) -> Estimator:
-    """An estimator by name; unknown names raise KeyError listing the known ones."""
-    return ESTIMATORS.get(name).factory(model)
+def make_estimator(name: str, model: RobotModel, dt: float) -> Estimator:
+    """An estimator by name, for control period dt [s]; unknown names raise KeyError listing
+    the known ones."""
+    return ESTIMATORS.get(name).factory(model, dt)
 
 
 __all__ = ["ESTIMATORS", "ComponentSpec", "Estimator", "EstimatorBase", "make_estimator"]

@@ -251,12 +251,12 @@ class FiveMassKalmanEstimator(EstimatorBase):
         )
 
 
-def _make(model: RobotModel) -> FiveMassKalmanEstimator:
-    return FiveMassKalmanEstimator(model)
+def _make(model: RobotModel, dt: float) -> FiveMassKalmanEstimator:
+    return FiveMassKalmanEstimator(model, dt)
 
 
-def _make_at_com(model: RobotModel) -> FiveMassKalmanEstimator:
-    return FiveMassKalmanEstimator(model, at_com=True)
+def _make_at_com(model: RobotModel, dt: float) -> FiveMassKalmanEstimator:
+    return FiveMassKalmanEstimator(model, dt, at_com=True)
 
 
 register(

@@ -15,5 +15,9 @@ class GroundTruthEstimator(EstimatorBase):
 
 
 register(
-    ComponentSpec("ground_truth", GroundTruthEstimator, "base pose and twist from the simulator")
+    ComponentSpec(
+        "ground_truth",
+        lambda model, dt: GroundTruthEstimator(model),  # dt: unused, a state of one period
+        "base pose and twist from the simulator",
+    )
 )

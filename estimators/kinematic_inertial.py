@@ -78,7 +78,7 @@ class KinematicInertialEstimator(ProprioceptiveEstimator):
 register(
     ComponentSpec(
         "kinematic_inertial",
-        KinematicInertialEstimator,
+        lambda model, dt: KinematicInertialEstimator(model),  # dt unused: it uses the sensors' time
         "IMU orientation, base placed by kinematics on the plan's contacts (Murooka's set-up)",
     )
 )

@@ -146,7 +146,7 @@ class ProprioceptiveEstimator(EstimatorBase):
 register(
     ComponentSpec(
         "proprioceptive",
-        ProprioceptiveEstimator,
+        lambda model, dt: ProprioceptiveEstimator(model),  # dt unused: it uses the sensors' time
         "IMU orientation and rate, stance-foot kinematics, force sensors",
     )
 )

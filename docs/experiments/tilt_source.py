@@ -54,9 +54,9 @@ assert SOURCE in ("measured", "joints", "ikpose"), SOURCE
 class Mixed(GroundTruthEstimator):
     name = "mixed"
 
-    def __init__(self, model):
+    def __init__(self, model, dt):
         super().__init__(model)
-        self.kalman = FiveMassKalmanEstimator(model)
+        self.kalman = FiveMassKalmanEstimator(model, dt)
         self.five = FiveMassModel(model)
         self.pose_data = self.model.createData()
 

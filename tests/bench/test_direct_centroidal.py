@@ -372,11 +372,11 @@ class _TruthWithFilterZmp:
     name = "truth_with_filter_zmp"
     errors: ClassVar[dict[str, list]] = {}
 
-    def __init__(self, model, source: str):
+    def __init__(self, model, dt: float, source: str):
         from estimators.base import make_estimator
 
-        self.truth = make_estimator("ground_truth", model)
-        self.filters = {n: make_estimator(n, model) for n in ("five_mass_kalman", KALMAN_COM)}
+        self.truth = make_estimator("ground_truth", model, dt)
+        self.filters = {n: make_estimator(n, model, dt) for n in ("five_mass_kalman", KALMAN_COM)}
         self.source = source
         type(self).errors = {n: [] for n in self.filters}
 
@@ -411,7 +411,9 @@ def _run_jvrc1_with_filter_zmp(monkeypatch, sim: str, source: str):
     monkeypatch.setitem(
         ESTIMATORS.specs,
         _TruthWithFilterZmp.name,
-        ComponentSpec(_TruthWithFilterZmp.name, lambda m: _TruthWithFilterZmp(m, source), ""),
+        ComponentSpec(
+            _TruthWithFilterZmp.name, lambda m, dt: _TruthWithFilterZmp(m, dt, source), ""
+        ),
     )
     return _run(BENT_NEAR_OMEGA, sim, "walk", robot="jvrc1", estimator=_TruthWithFilterZmp.name)
 
