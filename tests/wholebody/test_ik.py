@@ -1,5 +1,5 @@
 """Whole-body IK: reachable targets are reached, limits always hold, the Jacobians it uses
-match finite differences."""
+are the derivatives of its own errors."""
 
 from dataclasses import replace
 
@@ -169,45 +169,53 @@ def test_angular_momentum_task_reduces_momentum_of_the_step(model):
     assert momentum[100.0] < 0.5 * momentum[0.0]
 
 
-def _finite_difference(function, q, model, eps=1e-7):
-    value = function(q)
-    columns = []
-    for i in range(model.nv):
-        dv = np.zeros(model.nv)
-        dv[i] = eps
-        columns.append((function(pin.integrate(model, q, dv)) - value) / eps)
-    return np.array(columns).T
-
-
-def test_jacobians_used_by_the_ik_match_finite_differences(model):
-    """The CoM Jacobian, the limb-frame Jacobians (LOCAL_WORLD_ALIGNED) and the base angular
-    Jacobian that the IK uses, against finite differences of forward kinematics."""
-    m, data = model.model, model.model.createData()
-    q = pin.randomConfiguration(
-        m, np.r_[-np.ones(7), m.lowerPositionLimit[7:]], np.r_[np.ones(7), m.upperPositionLimit[7:]]
+def test_the_ik_s_task_rows_are_the_derivatives_of_its_own_errors(model):
+    """The rows the IK assembles (`solve` writes them into its buffers): at a random
+    configuration whose own poses are the targets (every error zero), each task's Jacobian row
+    J is minus the derivative of its error e = target - current along the tangent space
+    (finite differences of the IK's own errors, re-assembled at q + eps e_i), for the CoM, the
+    tracked limbs (one limb untracked, so the rows skip it) and the base orientation, and each
+    row carries its task's weight. A row taken in another frame (LOCAL for LOCAL_WORLD_ALIGNED),
+    the base's linear rows for its angular ones, or a limb's rows matched to another limb's
+    targets differs from the derivative by O(1)."""
+    m = model.model
+    rng = np.random.default_rng(5)
+    robot = model.robot
+    joints = np.clip(
+        np.array(robot.nominal_posture) + rng.uniform(-0.4, 0.4, robot.n_joints),
+        robot.array("lower") + 0.05,
+        robot.array("upper") - 0.05,
     )
-    q[3:7] /= np.linalg.norm(q[3:7])
-    pin.computeJointJacobians(m, data, q)
-    pin.updateFramePlacements(m, data)
-    pin.centerOfMass(m, data, q, False)
-    jacobian_com = pin.jacobianCenterOfMass(m, data, False).copy()
-    numeric = _finite_difference(lambda x: pin.centerOfMass(m, m.createData(), x), q, m)
-    np.testing.assert_allclose(jacobian_com, numeric, atol=1e-6)
-    for name in ["left_sole", "right_palm", "torso"]:
-        frame = model.frame_id[name]
-        analytic = pin.getFrameJacobian(m, data, frame, pin.LOCAL_WORLD_ALIGNED).copy()
-        reference = data.oMf[frame].copy()
+    turn = rng.normal(0.0, 0.3, 3)
+    state = RobotState.at_rest(
+        np.array([0.0, 0.0, 0.8]) + rng.uniform(-0.2, 0.2, 3), from_matrix(pin.exp3(turn)), joints
+    )
+    tracked = np.array([True, True, False, True])
+    targets = replace(_targets_of(model, state), limb_tracked=tracked)
+    ik = WholeBodyIK(model, DT)
+    weights = ik.weights
+    n = 6 * int(tracked.sum()) + 3 + 3  # the tracked limbs, the CoM, the base orientation
 
-        def pose_error(x, frame=frame, reference=reference):
-            d = m.createData()
-            pin.framesForwardKinematics(m, d, x)
-            placement = d.oMf[frame]
-            return np.r_[
-                placement.translation - reference.translation,
-                log(placement.rotation @ reference.rotation.T),
-            ]
+    def rows(q):
+        ik.q = q.copy()
+        ik.solve(targets)
+        return ik._jacobian[:n].copy(), ik._error[:n].copy(), ik._weight[:n].copy()
 
-        np.testing.assert_allclose(analytic, _finite_difference(pose_error, q, m), atol=1e-6)
+    q = model.configuration(state)
+    jacobian, error, weight = rows(q)
+    np.testing.assert_allclose(error, 0.0, atol=1e-9)  # the targets are q's own poses
+    eps = 1e-6
+    numeric = np.array(
+        [(rows(pin.integrate(m, q, eps * np.eye(m.nv)[i]))[1] - error) / eps for i in range(m.nv)]
+    ).T
+    np.testing.assert_allclose(jacobian, -numeric, atol=1e-4)
+    contact = targets.limb_in_contact[tracked]  # the tracked limbs: the feet, the right hand
+    expected = np.r_[
+        np.repeat(np.where(contact, weights.contact, weights.limb), 6),
+        np.full(3, weights.com),
+        np.full(3, weights.base_orientation),
+    ]
+    np.testing.assert_array_equal(weight, expected)
 
 
 def test_unknown_solver_is_rejected(model):
