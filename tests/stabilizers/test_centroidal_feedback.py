@@ -1,6 +1,8 @@
 """The gains of centroidal_feedback (Murooka's Appendix relation, eq. 19, and Table III), its
 damping control and distribution, and the DCM baseline's feedback (Appendix eqs. 17-18)."""
 
+from dataclasses import replace
+
 import numpy as np
 import pytest
 
@@ -14,21 +16,42 @@ def test_appendix_relation_reproduces_the_papers_numbers():
     assert kd == pytest.approx(674, abs=1)
 
 
-def test_scaling_returns_table_iii_for_hrp5p():
-    kp, kd = scaled_table_iii(105.0, 0.95 * 9.81 / 9.8)  # HRP-5P: omega^2 = 9.8 / 0.95
-    np.testing.assert_allclose(kp, TABLE_III["kp"], rtol=1e-9)
-    np.testing.assert_allclose(kd, TABLE_III["kd"], rtol=1e-9)
+def _poles(mass: float, kp: float, kd: float) -> np.ndarray:
+    """[1/s] the roots of m s^2 + K_D s + K_P: the closed loop of a point mass m [kg] under the
+    feedback f = -K_P e - K_D e' (the LIPM's CoM error, or a body of inertia m turning)."""
+    return np.sort_complex(np.roots([mass, kd, kp]))
 
 
-def test_scaling_follows_m_omega_squared():
-    kp_a, kd_a = scaled_table_iii(60.0, 0.8)
-    kp_b, kd_b = scaled_table_iii(120.0, 0.8)  # twice the mass: twice the gains
-    np.testing.assert_allclose(kp_b, 2 * kp_a)
-    np.testing.assert_allclose(kd_b, 2 * kd_a)
-    kp_c, kd_c = scaled_table_iii(60.0, 0.2)  # 4x omega^2 (2x omega)
-    np.testing.assert_allclose(kp_c[:3], 4 * kp_a[:3])
-    np.testing.assert_allclose(kd_c[:3], 2 * kd_a[:3])
-    assert kp_a[3:].tolist() == [0, 0, 0]  # Table III: no angular feedback
+@pytest.mark.parametrize("ladder", [False, True])
+def test_the_scaled_gains_give_our_robot_table_iii_s_closed_loop(standing, ladder):
+    """The gains the stabilizer takes on our standing robot (Table III's, or its ladder row,
+    rescaled): the CoM error's closed loop, m e'' = -K_P e - K_D e', has HRP-5P's poles under
+    Table III in units of each robot's omega (eq. 19 keeps the DCM gain K_xi), and the angular
+    loop, of an inertia m h^2, HRP-5P's poles in 1/s (the same natural frequency and damping
+    ratio; `angular_gain_ratio`). The poles are the roots of each loop's characteristic
+    polynomial, computed apart from the scaling."""
+    from stabilizers.centroidal_feedback import TABLE_III_LADDER, CentroidalFeedbackStabilizer
+
+    model, scenario, state = standing
+    stabilizer = CentroidalFeedbackStabilizer(DT)
+    stabilizer.reset(model, replace(scenario, ladder_gains=ladder), state)
+    mass, height = model.robot.total_mass, float(state.com_position_world[2])
+    table = TABLE_III_LADDER if ladder else TABLE_III
+    hrp_mass, hrp_height = 105.0, 0.95  # HRP-5P (Murooka's Appendix: omega^2 = 9.8 / 0.95)
+    omega, hrp_omega = np.sqrt(9.81 / height), np.sqrt(9.8 / hrp_height)
+    for axis in range(3):
+        ours = _poles(mass, stabilizer.kp[axis], stabilizer.kd[axis])
+        hrp = _poles(hrp_mass, table["kp"][axis], table["kd"][axis])
+        np.testing.assert_allclose(ours / omega, hrp / hrp_omega, rtol=1e-9)
+    angular = (stabilizer.kp[3:], stabilizer.kd[3:])
+    if not ladder:  # Table III: no angular feedback
+        assert not np.any(angular)
+        return
+    for axis in range(3, 6):
+        ours = _poles(mass * height**2, stabilizer.kp[axis], stabilizer.kd[axis])
+        hrp = _poles(hrp_mass * hrp_height**2, table["kp"][axis], table["kd"][axis])
+        np.testing.assert_allclose(ours, hrp, rtol=1e-9)
+    assert abs(omega / hrp_omega - 1) > 0.05  # the robots differ: the linear poles moved
 
 
 # --- Damping control of the limb ends (eqs. 15-16, Table II) -------------------------------
