@@ -1273,7 +1273,7 @@ def _sweep(args: argparse.Namespace) -> int:
 
 def _speed(args: argparse.Namespace) -> int:
     from bench.controllers import CONTROLLERS, controller_spec
-    from bench.speed_protocol import SpeedProtocol, run_speed_protocol
+    from bench.speed_protocol import SpeedInterrupted, SpeedProtocol, run_speed_protocol
     from reports.tables import speed_table
 
     controllers = []  # "all" stands for the registered controllers, ablations may follow
@@ -1309,19 +1309,26 @@ def _speed(args: argparse.Namespace) -> int:
         _output_file("--out", str(out / name), make_parents=False)
     try:
         trials = run_speed_protocol(controllers, sims, protocol, workers=args.workers)
-    except KeyboardInterrupt:
+    except SpeedInterrupted as exc:  # the finished walks kept, apart from a complete table
+        partial = out / "speed.partial.parquet"
+        try:
+            exc.trials.to_parquet(partial)
+        except OSError as error:
+            raise _write_failed("--out", out, error) from None
         print(
-            "centrobench speed: interrupted; nothing written (the table is written when every "
-            "search has ended)",
+            f"centrobench speed: {'terminated (SIGTERM)' if exc.terminated else 'interrupted'}; "
+            f"the {len(exc.trials)} walks that had ended are in {partial} (the searches are "
+            "incomplete: no table is written)",
             file=sys.stderr,
         )
-        return 130
+        return 143 if exc.terminated else 130
     table = speed_table(trials)
     with _pd_options():
         print(table.to_string(index=False))
     try:
         trials.to_parquet(out / "speed.parquet")
         (out / "speed.md").write_text(table.to_markdown(index=False, floatfmt=".4g") + "\n")
+        (out / "speed.partial.parquet").unlink(missing_ok=True)  # an interrupted run's
     except OSError as exc:
         raise _write_failed("--out", out, exc) from None
     return 0

@@ -24,6 +24,9 @@ walk: R - R // 5, 4 of 5 as the push protocol's robust thresholds (DESIGN.md: "r
 magnitude"); the search is then on those outcomes. The walking quality at the speed found is
 that of the first replica that walked it (replica 0's unless it fell; `reports.tables.
 speed_table`).
+
+Ctrl-C or SIGTERM stops the workers and raises `SpeedInterrupted`, which carries the rows of
+the walks that had ended (`centrobench speed` writes them to speed.partial.parquet).
 """
 
 from __future__ import annotations
@@ -61,6 +64,16 @@ class SpeedProtocol:
         """The replicas that must walk for a speed to count as walked: R - R // 5 (all of
         fewer than 5; 4 of 5, as the push protocol's robust thresholds)."""
         return self.replicas - self.replicas // 5
+
+
+class SpeedInterrupted(KeyboardInterrupt):
+    """Ctrl-C or SIGTERM stopped `run_speed_protocol`: `trials` holds the rows of the walks
+    that had ended (the searches are incomplete); `terminated` is True for SIGTERM."""
+
+    def __init__(self, trials: pd.DataFrame, terminated: bool) -> None:
+        super().__init__("SIGTERM" if terminated else "interrupted")
+        self.trials = trials
+        self.terminated = terminated
 
 
 class SpeedSearch:
@@ -180,8 +193,10 @@ def run_speed_protocol(
 ) -> pd.DataFrame:
     """Every trial's row (controller, sim, speed_command_mps, replica, status, ...,
     replicas_required), in the order the walks ended. A pair's next speed (its `replicas`
-    walks) is queued once every walk of its last speed has ended."""
+    walks) is queued once every walk of its last speed has ended. Ctrl-C or SIGTERM raises
+    `SpeedInterrupted` with the rows of the walks that had ended."""
     from bench.executors import make_executor
+    from bench.sweep import SweepTerminated, terminate_as_interrupt
 
     protocol = protocol or SpeedProtocol()
     searches = {(c, s): SpeedSearch(protocol) for c in controllers for s in sims}
@@ -205,43 +220,47 @@ def run_speed_protocol(
         )
     executor = make_executor("local", workers)
     try:
-        for item, result in executor.map_unordered(work, queue, budget=lambda _: budget_s):
-            controller, sim, speed, _, replica = item
-            if isinstance(result, BaseException):
-                result = {
-                    "controller": controller,
-                    "sim": sim,
-                    "speed_command_mps": speed,
-                    "replica": replica,
-                    "status": "error",
-                    "error": f"{type(result).__name__}: {result}",
-                }
-            rows.append({**result, "replicas_required": protocol.required})
-            outcomes = walked.setdefault((controller, sim, speed), [])
-            outcomes.append(result["status"] == "ok")
-            if len(outcomes) < protocol.replicas:
-                continue
-            del walked[controller, sim, speed]
-            search = searches[controller, sim]
-            search.record(speed, sum(outcomes) >= protocol.required)
-            following = walks(controller, sim)
-            queue.extend(following)  # run in this same map: the executor reads the deque
-            if not following:
-                done += 1
-                if progress:
-                    best = "none" if search.best is None else f"{search.best:g} m/s"
-                    print(
-                        f"speed (Ficht & Behnke Table 1): {controller} in {sim}: {best} after "
-                        f"{len(search.tried)} speeds; {done} of {len(searches)} searches done",
-                        file=sys.stderr,
-                        flush=True,
-                    )
+        with terminate_as_interrupt():
+            for item, result in executor.map_unordered(work, queue, budget=lambda _: budget_s):
+                controller, sim, speed, _, replica = item
+                if isinstance(result, BaseException):
+                    result = {
+                        "controller": controller,
+                        "sim": sim,
+                        "speed_command_mps": speed,
+                        "replica": replica,
+                        "status": "error",
+                        "error": f"{type(result).__name__}: {result}",
+                    }
+                rows.append({**result, "replicas_required": protocol.required})
+                outcomes = walked.setdefault((controller, sim, speed), [])
+                outcomes.append(result["status"] == "ok")
+                if len(outcomes) < protocol.replicas:
+                    continue
+                del walked[controller, sim, speed]
+                search = searches[controller, sim]
+                search.record(speed, sum(outcomes) >= protocol.required)
+                following = walks(controller, sim)
+                queue.extend(following)  # run in this same map: the executor reads the deque
+                if not following:
+                    done += 1
+                    if progress:
+                        best = "none" if search.best is None else f"{search.best:g} m/s"
+                        print(
+                            f"speed (Ficht & Behnke Table 1): {controller} in {sim}: {best} after "
+                            f"{len(search.tried)} speeds; {done} of {len(searches)} searches done",
+                            file=sys.stderr,
+                            flush=True,
+                        )
+    except KeyboardInterrupt as exc:  # the rows so far go with it
+        raise SpeedInterrupted(pd.DataFrame(rows), isinstance(exc, SweepTerminated)) from None
     finally:
         executor.close()
     return pd.DataFrame(rows)
 
 
 __all__ = [
+    "SpeedInterrupted",
     "SpeedProtocol",
     "SpeedSearch",
     "run_speed_protocol",

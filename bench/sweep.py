@@ -187,7 +187,7 @@ class SweepTerminated(KeyboardInterrupt):
 
 
 @contextlib.contextmanager
-def _terminate_as_interrupt() -> Iterator[None]:
+def terminate_as_interrupt() -> Iterator[None]:
     """Within the block, SIGTERM raises `SweepTerminated` (main thread only)."""
     try:
         previous = signal.signal(signal.SIGTERM, _raise_terminated)
@@ -243,7 +243,7 @@ def run_sweep(
     runner = make_executor(executor, workers=workers, address=address)
     bar = None
     try:
-        with store.locked(), _terminate_as_interrupt():
+        with store.locked(), terminate_as_interrupt():
             try:
                 finished = store.prepare(
                     spec.to_dict(),

@@ -316,3 +316,81 @@ def test_a_timeout_above_the_speed_found_is_not_shown_as_a_fall():
     table = speed_table(trials).set_index("controller")
     assert list(table["v_fell_mps"]) == [0.3, 0.3]
     assert list(table["v_fell ended"]) == ["timeout", "fell"]
+
+
+class _StoppingExecutor:
+    """The local executor's `map_unordered`, run in this process, that stops after `after`
+    walks: by Ctrl-C (KeyboardInterrupt) or by a SIGTERM sent to this process."""
+
+    def __init__(self, after: int, sigterm: bool) -> None:
+        self.after, self.sigterm, self.closed = after, sigterm, False
+
+    def map_unordered(self, work, queue, budget):
+        import signal
+
+        for ended, item in enumerate(_drain(queue)):
+            if ended == self.after:
+                if self.sigterm:
+                    os.kill(os.getpid(), signal.SIGTERM)
+                raise KeyboardInterrupt
+            yield item, work(item)
+
+    def close(self) -> None:
+        self.closed = True
+
+
+def _drain(queue):
+    while queue:
+        yield queue.popleft()
+
+
+@pytest.mark.parametrize("sigterm", [False, True])
+def test_an_interrupted_search_hands_back_the_walks_that_ended(monkeypatch, sigterm):
+    """Ctrl-C or SIGTERM after 5 walks: `SpeedInterrupted` carries those 5 rows (the same as
+    the uninterrupted search's first 5), says which signal it was, and the workers are
+    stopped."""
+    import bench.executors
+    from bench.speed_protocol import SpeedInterrupted
+
+    executors = []
+
+    def make_executor(kind, workers):
+        executors.append(_StoppingExecutor(5, sigterm))
+        return executors[-1]
+
+    protocol = SpeedProtocol(maximum=0.6)
+    whole = run_speed_protocol(["steady"], ["mujoco"], protocol, work=fake_walk, progress=False)
+    monkeypatch.setattr(bench.executors, "make_executor", make_executor)
+    with pytest.raises(SpeedInterrupted) as stopped:
+        run_speed_protocol(["steady"], ["mujoco"], protocol, work=fake_walk, progress=False)
+    assert stopped.value.terminated is sigterm
+    assert executors[0].closed
+    columns = ["controller", "speed_command_mps", "status"]
+    pd.testing.assert_frame_equal(stopped.value.trials[columns], whole[columns].head(5))
+
+
+def test_the_speed_command_keeps_an_interrupted_searchs_walks(monkeypatch, tmp_path):
+    """Interrupted, `centrobench speed` writes the walks that ended to speed.partial.parquet
+    and no table (exit 130, 143 for SIGTERM); a later complete run removes that file."""
+    import bench.speed_protocol
+    from bench.cli import main
+    from bench.speed_protocol import SpeedInterrupted
+
+    ended = pd.DataFrame([fake_walk(("steady", "mujoco", v, 12, 0)) for v in (0.05, 0.1)])
+    stop = {"terminated": False}
+
+    def interrupted(controllers, sims, protocol, workers=None):
+        raise SpeedInterrupted(ended, stop["terminated"])
+
+    monkeypatch.setattr(bench.speed_protocol, "run_speed_protocol", interrupted)
+    argv = ["speed", "--controllers", "hold+posture", "--out", str(tmp_path)]
+    assert main(argv) == 130
+    pd.testing.assert_frame_equal(pd.read_parquet(tmp_path / "speed.partial.parquet"), ended)
+    assert not (tmp_path / "speed.parquet").exists()
+    assert not (tmp_path / "speed.md").exists()
+    stop["terminated"] = True
+    assert main(argv) == 143
+    monkeypatch.setattr(bench.speed_protocol, "run_speed_protocol", lambda *a, **k: ended)
+    assert main(argv) == 0
+    assert (tmp_path / "speed.parquet").exists()
+    assert not (tmp_path / "speed.partial.parquet").exists()
