@@ -416,7 +416,7 @@ def _run_episode(
         whole_body = make_whole_body(spec.whole_body, model, dt)
         sim = make_simulator(spec.sim)
         sensor_model = (
-            SensorModel(perturbation, spec.seed, robot.n_joints, len(robot.limbs), dt)
+            SensorModel(perturbation, spec.seed, robot.n_joints, len(robot.limbs), dt, spec.replica)
             if perturbation.changes_sensors
             else None
         )

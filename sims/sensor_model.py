@@ -23,7 +23,10 @@ once with the channel's figure (its SI value if given, else the data sheet's) ti
 `noise_bias`. The noise comes from
 `numpy.random.default_rng([seed, NOISE_STREAM])` (the bias from `BIAS_STREAM`), drawn as one
 vector per period in a fixed order whatever the simulator: the same seed gives the same noise
-in MuJoCo and PyBullet and on every executor.
+in MuJoCo and PyBullet and on every executor. A push's replicas (`bench.runner.
+replica_changes`) are re-runs of one experiment on one robot: each replica after the first
+reads its own noise (`[seed, NOISE_STREAM, replica]`), and all share the seed's bias (the
+robot's sensors' offsets), as the push levels of a threshold do.
 
 Delays: `CommandDelay` applies the command computed `k` periods earlier (the first command
 until then: the servo holds its start-up target); `SensorModel` hands the estimator the reading
@@ -131,8 +134,15 @@ class SensorModel:
     """What the estimator reads: the simulator's `Sensors` with noise, bias and delay."""
 
     def __init__(
-        self, perturbation: Perturbation, seed: int, n_joints: int, n_limbs: int, dt: float
+        self,
+        perturbation: Perturbation,
+        seed: int,
+        n_joints: int,
+        n_limbs: int,
+        dt: float,
+        replica: int = 0,
     ) -> None:
+        """replica: the push replica (module docstring); replica 0 reads the seed's noise."""
         self.n, self.k = n_joints, n_limbs
         self.delay = int(perturbation.sensor_delay)
         sigma = noise_sigmas(perturbation, n_joints, n_limbs, dt)
@@ -143,7 +153,8 @@ class SensorModel:
             dt,
         )
         self.sigma = sigma if np.any(sigma) else None
-        self.rng = np.random.default_rng([seed, NOISE_STREAM])
+        stream = [seed, NOISE_STREAM] if replica == 0 else [seed, NOISE_STREAM, replica]
+        self.rng = np.random.default_rng(stream)
         self.bias = None
         if perturbation.noise_bias:
             bias_rng = np.random.default_rng([seed, BIAS_STREAM])

@@ -192,6 +192,55 @@ def test_delays_shift_commands_and_readings_by_exactly_k_periods(
         assert np.array_equal(handed[j + 1].joint_position, readings[j - 1 - k].joint_position)
 
 
+def _gyro_offsets(monkeypatch, perturbation: Perturbation, replica: int) -> np.ndarray:
+    """What the sensor model added to the gyro readings the estimator got [rad/s] (periods, 3)
+    over 0.05 s of `stand` (seed 0, replica `replica`)."""
+    readings, handed = [], []
+    make_simulator, make_estimator = runner_module.make_simulator, runner_module.make_estimator
+    monkeypatch.setattr(
+        runner_module,
+        "make_simulator",
+        lambda name: _Recording(make_simulator(name), "step", [], readings),
+    )
+    monkeypatch.setattr(
+        runner_module,
+        "make_estimator",
+        lambda *a: _Recording(make_estimator(*a), "estimate", handed),
+    )
+    spec = EpisodeSpec(
+        planner="preview_control",
+        stabilizer="centroidal_feedback",
+        sim="mujoco",
+        scenario="stand",
+        duration=0.05,
+        perturbation=perturbation,
+        replica=replica,
+    )
+    assert run_episode(spec).summary["status"] == "ok"
+    # period j >= 1 reads the simulator's reading of period j - 1 (the delay test above)
+    return np.array(
+        [
+            handed[j + 1].imu_angular_velocity_imu - readings[j - 1].imu_angular_velocity_imu
+            for j in range(1, len(readings))
+        ]
+    )
+
+
+def test_a_push_s_replicas_read_their_own_noise_and_share_the_robot_s_bias(monkeypatch):
+    """Replicas are re-runs on one robot: with white IMU noise, replica 1's gyro noise is not
+    replica 0's (it was, draw for draw, before 2026-12-03: the replicas of a noisy threshold
+    sampled one noise sequence); with a bias alone both read the same constant offset."""
+    noisy = Perturbation(noise_imu=1.0)
+    first, second = (_gyro_offsets(monkeypatch, noisy, r) for r in (0, 1))
+    assert first.std() > 1e-3  # [rad/s] the data sheet's 1.95e-3 at 2 ms
+    assert np.abs(first - second).max() > 1e-3
+    biased = Perturbation(noise_bias=1.0)
+    first, second = (_gyro_offsets(monkeypatch, biased, r) for r in (0, 1))
+    assert np.abs(first[0]).max() > 1e-4  # a bias, not zero
+    np.testing.assert_allclose(second, first, rtol=0, atol=1e-12)
+    assert np.ptp(first, axis=0).max() < 1e-12  # constant
+
+
 def test_replicas_differ_by_a_small_seeded_change_and_replica_0_is_the_episode():
     initial = RobotModel(humanoid()).standing_state()
     same, shift = replica_changes(initial, seed=0, replica=0)

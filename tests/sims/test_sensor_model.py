@@ -126,6 +126,16 @@ def test_a_bias_scales_with_a_channels_si_figure(robot):
     np.testing.assert_array_equal(si[others], sheet[others])
 
 
+def test_a_bias_is_noise_bias_times_the_figures(robot):
+    """`noise_bias` is the multiple of each channel's figure: 5 gives five times the bias of 1
+    (the same draws), in every channel."""
+    n, k = robot.n_joints, len(robot.limbs)
+    one = SensorModel(Perturbation(noise_bias=1.0), 3, n, k, DT).bias
+    five = SensorModel(Perturbation(noise_bias=5.0), 3, n, k, DT).bias
+    np.testing.assert_allclose(five, 5.0 * one, rtol=1e-12)
+    assert np.all(one != 0.0)
+
+
 def test_the_same_seed_gives_the_same_noise_in_both_simulators(robot, model):
     perturbation = Perturbation(noise_encoders=1.0, noise_imu=1.0, noise_ft=1.0, noise_bias=1.0)
     mujoco = _offsets(*_standing("mujoco", robot, model, 50, perturbation))
