@@ -94,8 +94,10 @@ class Frame:
 @dataclass(frozen=True)
 class Limb:
     """A limb end that can make contact: its link, its contact frame (sole or palm centre), the
-    force/torque sensor frame on it, and the rectangular contact surface half extents in the
-    contact frame's x and y [m]."""
+    force/torque sensor frame on it (described, not used: the simulators report the contact
+    wrench at the contact frame, which leaves out the limb's own weight and inertia that a
+    sensor in the ankle or wrist would carry), and the rectangular contact surface half
+    extents in the contact frame's x and y [m]."""
 
     name: str
     link: str

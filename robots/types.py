@@ -95,9 +95,11 @@ class Sensors:
     servo during the last physics step, after clipping); ground-truth base pose and twist as in
     `RobotState`; IMU: imu_orientation_world (w, x, y, z), imu_angular_velocity_imu [rad/s],
     imu_linear_acceleration_imu [m/s^2] (specific force: reads +9.81 along the world's up
-    direction at rest); contact_wrench_limb (n_limbs, 6): force [N] then moment [N m] of the
-    environment on the limb, expressed in the limb's contact frame (sole / palm centre) about
-    its origin; contact_flag_limb (n_limbs,) bool."""
+    direction at rest; the reading at reset, before any step, is no measurement: MuJoCo's reads
+    0, the robot not yet touching the ground, PyBullet's +g whatever the state, and only the
+    five-mass filter reads it, its horizontal part, 0 in both); contact_wrench_limb (n_limbs,
+    6): force [N] then moment [N m] of the environment on the limb, expressed in the limb's
+    contact frame (sole / palm centre) about its origin; contact_flag_limb (n_limbs,) bool."""
 
     time: float
     joint_position: np.ndarray

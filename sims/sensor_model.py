@@ -9,8 +9,10 @@ sheet's (`Perturbation.noise_encoders`, `noise_imu`, `noise_ft`, per sensor grou
 sheets (`DATASHEET`) are:
 
 - joint encoders: a 17-bit absolute encoder (for example RLS AksIM-2, sold at 17 to 20 bits):
-  quantisation q = 2 pi / 2^17 rad, position sigma = q / sqrt(12); velocity as the finite
-  difference of two readings one control period apart, sigma = sqrt(2) q / sqrt(12) / dt;
+  quantisation q = 2 pi / 2^17 rad, position sigma = q / sqrt(12); velocity with the sigma
+  of the finite difference of two readings one control period apart, sqrt(2) q / sqrt(12) /
+  dt, drawn white and apart from the position noise (an adaptation: a true difference would
+  be correlated with it and from one period to the next);
 - IMU: MicroStrain 3DM-GX5-25 data sheet: gyro noise density 0.005 deg/s/sqrt(Hz),
   accelerometer 25 micro-g/sqrt(Hz), sampled at the control rate (sigma = density
   sqrt(1 / dt)); attitude accuracy 0.25 deg RMS roll and pitch, 0.8 deg heading, applied as a

@@ -90,7 +90,8 @@ def test_moving_contacts_feet_and_walls_carry_the_weight(moving_contacts_episode
     """While floors and walls move (after both hands are on), the measured contact forces'
     vertical components (the feet's normal forces, about level to 2 deg, and the palms'
     friction along their frames' y axes, which are world z for the left palm and -z for the
-    right) average to m g: the robot neither sinks nor rises over the motion."""
+    right) average to m g, to 0.5 % (measured 0.24 % under in both simulators, 2026-12-03):
+    the robot neither sinks nor rises over the motion."""
     _, result = moving_contacts_episode
     trace = result.trace
     model = RobotModel(humanoid())
@@ -105,7 +106,7 @@ def test_moving_contacts_feet_and_walls_carry_the_weight(moving_contacts_episode
         - moving["wrench_measured_right_hand_fy"]
     )
     weight = model.robot.total_mass * GRAVITY
-    assert vertical.mean() == pytest.approx(weight, rel=0.01)
+    assert vertical.mean() == pytest.approx(weight, rel=0.005)
 
 
 def test_moving_contacts_hands_stay_mostly_on_the_moving_walls(moving_contacts_episode):

@@ -92,6 +92,35 @@ def test_injected_noise_has_the_requested_standard_deviation(robot, model):
         assert offsets.std() == pytest.approx(requested, rel=0.05), channel
 
 
+def test_attitude_noise_is_about_the_world_axes_of_a_tilted_and_turned_imu():
+    """The attitude figures are roll and pitch (0.25 deg) and heading (0.8 deg) of the world:
+    on an IMU pitched 30 deg and yawed 40 deg (synthetic readings, 20 000 periods) the noise's
+    rotation vector, in world axes, has those standard deviations. Standing upright and
+    unturned, noise about the body's axes looks the same; here it mixes heading into tilt."""
+    from robots.types import Sensors
+
+    n, k = 5, 2
+    turned = Rotation.from_euler("ZY", [40.0, 30.0], degrees=True)
+    quaternion = np.roll(turned.as_quat(), 1)  # (w, x, y, z)
+    raw = Sensors(
+        0.0, np.zeros(n), np.zeros(n), np.zeros(n), np.zeros(3), np.array([1.0, 0, 0, 0]),
+        np.zeros(3), np.zeros(3), quaternion, np.zeros(3), np.zeros(3), np.zeros((k, 6)),
+        np.zeros(k, dtype=bool),
+    )  # fmt: skip
+    model = SensorModel(Perturbation(noise_imu=1.0), 11, n, k, DT)
+    noise = np.array(
+        [
+            (
+                Rotation.from_quat(np.roll(model.observe(raw).imu_orientation_world, -1))
+                * turned.inv()
+            ).as_rotvec()
+            for _ in range(20_000)
+        ]
+    )
+    expected = [DATASHEET.imu_tilt_rad] * 2 + [DATASHEET.imu_heading_rad]
+    np.testing.assert_allclose(noise.std(axis=0), expected, rtol=0.03)  # 1 / sqrt(2 N) = 0.5 %
+
+
 def test_noise_given_in_si_units_replaces_the_data_sheets_for_that_channel(robot, model):
     """The gyro's noise at 0.01 rad/s and the F/T force's at 1 N (SI units) beside the IMU
     group at twice the data sheet: each channel's measured standard deviation within 5 % of
