@@ -1,17 +1,20 @@
 """The push-survival protocol after Ficht & Behnke, Table 2: for each impulse level, `count`
 pushes (20) from directions drawn uniformly on the horizontal circle with a fixed seed,
-applied to the torso (the base link) for 0.1 s, (a) while standing and (b) in the middle of a
+applied at the torso's centre of mass (`RobotDescription.torso_link`, the link the arms branch
+from: the humanoid's base, JVRC-1's chest) for 0.1 s, (a) while standing and (b) in the middle of a
 single-support phase while walking; an episode survives when the robot has not fallen 3 s
 after the push ends.
 
 Levels are velocity changes dv = J / m [m/s], so that robots of different mass compare (the
 paper's 1.2 ... 2.8 N s on its robot of about 6.6 kg are 0.18 ... 0.42 m/s); each episode
-records the impulse J = m dv [N s] for the robot at hand (its mass at the episode's scale).
-Every controller, simulator and level gets the same directions.
+records the impulse J = m dv [N s] for the robot at hand (its nominal mass at the episode's
+scale: under a payload or a mass error, the simulated robot of mass m_sim changes its velocity
+by m / m_sim of dv). Every controller, simulator and level gets the same directions.
 
-Standing pushes start at 1.5 s: every registered controller but Ficht & Behnke's has settled by
-then in both simulators (its ground-truth CoM speed below 1 mm/s over the last 0.1 s before the
-push; `tests/bench/test_sweep_spec.py` asserts it, and names the measured exceptions). Walking
+Standing pushes start at 1.5 s: every registered controller but Ficht & Behnke's, and our
+`hold` + `posture` baseline in MuJoCo (about 1 mm/s), has settled by then in both simulators
+(its ground-truth CoM speed below 1 mm/s over the last 0.1 s before the push;
+`tests/bench/test_sweep_spec.py` asserts it, and names the measured exceptions). Walking
 pushes come at a time of the `walk` scenario's fixed schedule (the middle of its
 `walking_push_step`-th single support): a controller that chooses its own step times
 (`direct_centroidal`) is pushed at the same time, in whatever phase of its own gait that is.

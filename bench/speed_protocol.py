@@ -56,6 +56,13 @@ class SpeedProtocol:
             raise ValueError("resolution must be positive and at most the increment")
         if not 0 < self.start <= self.maximum:
             raise ValueError("start must be positive and at most the maximum")
+        for name in ("start", "increment"):  # the ladder's rungs on the bisection's grid
+            steps = getattr(self, name) / self.resolution
+            if abs(steps - round(steps)) > 1e-9:
+                raise ValueError(
+                    f"{name} {getattr(self, name):g} must be a whole multiple of the resolution "
+                    f"{self.resolution:g} (the ladder's speeds are on its grid)"
+                )
         if not 1 <= self.replicas <= MAX_REPLICAS:
             raise ValueError(f"replicas must be an integer in [1, {MAX_REPLICAS}]")
 

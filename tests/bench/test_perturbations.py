@@ -80,6 +80,23 @@ def test_mass_errors_are_bounded_seeded_and_keep_each_links_centre_of_mass():
     )
     assert np.all(np.abs(factors - 1.0) <= 0.1)
     assert np.ptp(factors) > 0.05
+    # uniform on [0.9, 1.1]: lighter and heavier links alike, over a few seeds mean 1
+    pooled = np.concatenate(
+        [
+            [
+                b.inertial.mass / a.inertial.mass
+                for a, b in zip(
+                    robot.links,
+                    simulated_robot(robot, Perturbation(mass_error=0.1), seed=s).links,
+                    strict=True,
+                )
+            ]
+            for s in range(10)
+        ]
+    )
+    assert pooled.min() < 0.92
+    assert pooled.max() > 1.08
+    assert abs(pooled.mean() - 1.0) < 0.02  # sigma of the mean 0.058 / sqrt(250) = 0.004
     for a, b, f in zip(robot.links, changed.links, factors, strict=True):
         assert b.inertial.com_in_link == a.inertial.com_in_link
         np.testing.assert_allclose(b.inertial.inertia_matrix, f * a.inertial.inertia_matrix)
@@ -321,6 +338,14 @@ def test_push_replicas_multiply_the_pushes_and_keep_the_ids_of_replica_0():
     assert [e.episode_id for e in five if e.run.replica == 0] == [e.episode_id for e in one]
     assert sorted(e.run.replica for e in five) == sorted(list(range(5)) * 3)
     assert "replicas" not in spec_from_mapping(base).to_dict()["push"]  # digest as before
+    # a replica's push may come up to the jitter late: its episode is that much longer, so
+    # that every replica is judged over the whole survival time after its push
+    from bench.runner import REPLICA_PUSH_JITTER_S
+
+    nominal = {e.push_index: e.run.duration for e in one}
+    for e in five:
+        longer = REPLICA_PUSH_JITTER_S if e.run.replica > 0 else 0.0
+        assert e.run.duration == pytest.approx(nominal[e.push_index] + longer, abs=1e-12)
 
 
 MAIN_JOB_2026_11_24 = {
@@ -401,6 +426,10 @@ def test_the_simulated_ground_is_where_the_perturbation_puts_it(sim_name, pertur
             for box in tiles[::17]:
                 x, y, _ = box.center_world
                 assert _ground_height(sim, x, y) == pytest.approx(2 * box.half_extents[2], abs=1e-6)
+            # the field starts GROUND_START_M ahead: under the standing robot, flat ground
+            edge = min(b.center_world[0] - b.half_extents[0] for b in tiles)
+            assert edge == pytest.approx(GROUND_START_M, abs=1e-12)
+            assert _ground_height(sim, 0.5 * GROUND_START_M, 0.0) == pytest.approx(0.0, abs=1e-6)
             again = simulated_scene(flat, perturbation, seed=4)
             other = simulated_scene(flat, perturbation, seed=5)
             assert again == scene

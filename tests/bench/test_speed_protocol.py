@@ -36,6 +36,20 @@ def test_the_search_finds_the_highest_speed_walked_to_the_resolution(threshold):
     assert len(search.tried) <= math.ceil(threshold / 0.05) + 1 + 3
 
 
+def test_a_ladder_off_the_resolution_s_grid_is_refused():
+    """Rungs are rounded to the bisection's grid: start 0.05 with resolution 0.03 walked 0.06,
+    0.12, ... (steps of 0.06, not 0.05), and start = maximum = 0.8 walked 0.81, above the
+    maximum. A start or increment that is no multiple of the resolution is refused."""
+    with pytest.raises(ValueError, match=r"start 0\.05 must be a whole multiple"):
+        SpeedProtocol(start=0.05, increment=0.06, resolution=0.03)
+    with pytest.raises(ValueError, match=r"increment 0\.05 must be a whole multiple"):
+        SpeedProtocol(start=0.06, increment=0.05, resolution=0.03)
+    protocol = SpeedProtocol(start=0.06, increment=0.06, maximum=0.3, resolution=0.03)
+    assert [speed for speed, _ in _search(5.0, protocol).tried] == pytest.approx(
+        [0.06, 0.12, 0.18, 0.24, 0.3]
+    )
+
+
 def test_the_search_ends_at_the_ladders_top_or_bottom():
     protocol = SpeedProtocol(maximum=0.3)
     assert _search(5.0, protocol).best == pytest.approx(0.3)
