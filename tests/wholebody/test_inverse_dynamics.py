@@ -28,11 +28,10 @@ def _random_state(model, rng):
     return q, v
 
 
-@pytest.mark.parametrize("seed", [0, 1, 2])
-def test_torques_reproduce_the_accelerations_through_forward_dynamics(model, seed):
-    """Random posture, velocity, joint accelerations and foot wrenches; the base's
-    accelerations from the base rows (eq. 2, so that (q'', f) is consistent); then ABA with
-    the computed torques and the wrenches as external forces gives q'' back to 1e-8."""
+def _consistent_motion(model, seed: int):
+    """Random posture q, velocity v, joint accelerations and foot wrenches (limb frames); the
+    base's accelerations from the base rows (eq. 2, M_bb a_b = sum J_c,b^T f - h_b - M_bj a_j,
+    so that (q'', f) is consistent): (q, v, a, wrenches, in_contact, frames)."""
     rng = np.random.default_rng(seed)
     pin_model, data = model.model, model.model.createData()
     q, v = _random_state(model, rng)
@@ -43,7 +42,6 @@ def test_torques_reproduce_the_accelerations_through_forward_dynamics(model, see
     wrenches[in_contact] = rng.normal(scale=[50, 50, 300, 10, 10, 5], size=(in_contact.sum(), 6))
     acceleration = np.zeros(pin_model.nv)
     acceleration[6:] = rng.normal(size=pin_model.nv - 6)
-    # base rows: M_bb a_b = sum J_c,b^T f - h_b - M_bj a_j
     mass_matrix = pin.crba(pin_model, data, q)
     mass_matrix = np.triu(mass_matrix) + np.triu(mass_matrix, 1).T
     bias = pin.rnea(pin_model, data, q, v, np.zeros(pin_model.nv))
@@ -56,16 +54,67 @@ def test_torques_reproduce_the_accelerations_through_forward_dynamics(model, see
         )
     rhs = generalized_force[:6] - bias[:6] - mass_matrix[:6, 6:] @ acceleration[6:]
     acceleration[:6] = np.linalg.solve(mass_matrix[:6, :6], rhs)
+    return q, v, acceleration, wrenches, in_contact, frames
 
-    torque = joint_torques(model, data, q, v, acceleration, wrenches, in_contact, frames)
 
+def _forward_dynamics(model, q, v, torque, wrenches, in_contact, frames) -> np.ndarray:
+    """q'' of pinocchio's ABA with the joint torques and the limbs' wrenches as external
+    forces (the base unactuated)."""
+    pin_model = model.model
     external = [pin.Force.Zero() for _ in range(pin_model.njoints)]
     for k in np.flatnonzero(in_contact):
         frame = pin_model.frames[frames[k]]
         external[frame.parentJoint] += frame.placement.act(pin.Force(wrenches[k]))
     tau = np.concatenate([np.zeros(6), torque])
-    reproduced = pin.aba(pin_model, data, q, v, tau, external)
+    return pin.aba(pin_model, pin_model.createData(), q, v, tau, external)
+
+
+@pytest.mark.parametrize("seed", [0, 1, 2])
+def test_torques_reproduce_the_accelerations_through_forward_dynamics(model, seed):
+    """Random posture, velocity, joint accelerations and consistent foot wrenches: ABA with
+    the computed torques and the wrenches as external forces gives q'' back to 1e-8."""
+    q, v, acceleration, wrenches, in_contact, frames = _consistent_motion(model, seed)
+    data = model.model.createData()
+    torque = joint_torques(model, data, q, v, acceleration, wrenches, in_contact, frames)
+    reproduced = _forward_dynamics(model, q, v, torque, wrenches, in_contact, frames)
     np.testing.assert_allclose(reproduced, acceleration, rtol=0, atol=1e-8)
+
+
+def test_the_layer_takes_the_robot_s_own_velocity(model):
+    """Through the layer, from a moving robot's `RobotState` (world-frame base twist, joint
+    rates): its torques reproduce q'' through ABA at the state's velocity, so the Coriolis and
+    centrifugal terms are those of the state (with the velocity dropped they differ by more
+    than 1 N m and q'' is not reproduced)."""
+    from robots.types import RobotState
+
+    q, v, acceleration, wrenches, in_contact, frames = _consistent_motion(model, 3)
+    rotation = pin.Quaternion(q[6], q[3], q[4], q[5]).toRotationMatrix()
+    state = RobotState(
+        q[:3], np.array([q[6], q[3], q[4], q[5]]), rotation @ v[:3], rotation @ v[3:6],
+        q[7:], v[6:],
+    )  # fmt: skip
+    limbs = model.robot.limbs
+    targets = WholeBodyTargets(
+        com_position_world=np.zeros(3),
+        base_orientation_world=np.array([1.0, 0, 0, 0]),
+        limb_position_world=np.zeros((len(limbs), 3)),
+        limb_orientation_world=np.tile([1.0, 0, 0, 0], (len(limbs), 1)),
+        limb_in_contact=in_contact,
+        com_desired_world=np.zeros(3),
+        zmp_desired_world=np.zeros(3),
+        contact_wrench_desired_limb=wrenches,
+        generalized_acceleration=acceleration,
+    )
+    layer = make_whole_body("inverse_dynamics", model, 0.002)
+    layer.reset(model, state)
+    torque = layer.command(targets, state).torque_feedforward
+    reproduced = _forward_dynamics(model, q, v, torque, wrenches, in_contact, frames)
+    np.testing.assert_allclose(reproduced, acceleration, rtol=0, atol=1e-8)
+    at_rest = joint_torques(
+        model, model.model.createData(), q, np.zeros_like(v), acceleration, wrenches,
+        in_contact, frames,
+    )  # fmt: skip
+    assert np.abs(torque - at_rest).max() > 1.0  # [N m] the velocity terms matter here
 
 
 def test_the_layer_commands_pure_torque(model):
