@@ -296,6 +296,10 @@ class WholeBodyTargets:
     wrench_distributed_world: np.ndarray | None = None
     """w-bar^d' : the resultant of the distributed contact wrenches minus [m g; c^a x f^d]; its
     difference from w-bar^d is the desired projection error (Sec. V-G)."""
+    angular_momentum_world: np.ndarray | None = None
+    """L^p [kg m^2/s] (3,), world: the plan's centroidal angular momentum about the CoM, I
+    omega^p (Murooka eq. 6), the target of the IK's angular-momentum task (Sec. V-F, the
+    `ik_angular_momentum` layer); None: zero."""
     inertia_axes_world: np.ndarray | None = None
     """(3, 3) the orientation R_I^set of the principal axes of inertia that a five-mass pose
     generator realises (Ficht & Behnke eq. 12); None: no such target."""

@@ -161,6 +161,7 @@ class CentroidalFeedbackStabilizer:
     def reset(self, robot: RobotModel, scenario: Scenario, state: RobotState) -> None:
         description = robot.robot
         self.mass = description.total_mass
+        self.inertia = robot.constant_inertia()  # I of eq. 6 [kg m^2], as the planners'
         com_height = float(state.com_position_world[2])  # every scenario starts at z = 0
         self.kp, self.kd = scaled_table_iii(self.mass, com_height, scenario.ladder_gains)
         self.hand_kd_linear = scenario.hand_contact_kd_linear
@@ -371,6 +372,7 @@ class CentroidalFeedbackStabilizer:
             wrench_desired_world=wrench_desired,
             limb_tracked=plan.limb_tracked,
             wrench_distributed_world=distributed - offset,
+            angular_momentum_world=self.inertia @ plan.base_angular_velocity_planned_world,
         )
 
 

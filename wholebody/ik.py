@@ -10,12 +10,13 @@ position servos) and finds the step dv (pinocchio tangent space, nv = 6 + n_join
 over the tasks i: each limb end's 6-D pose (contact limbs held with `contact` weight, free
 limbs with a target tracked with `limb` weight, limbs without one left to the posture task),
 the CoM position, the base orientation, a low-weight posture task toward the nominal joint
-angles (Murooka V-A1) and an optional centroidal angular momentum task I_all dv = 0 (Murooka
-V-F), subject to the joint position limits and the joint velocity limits over one period. The
-QP is solved by DAQP (the default: the fastest on this dense 26-variable problem, see
-`make benchmark`), called directly with the bounds as DAQP's simple bounds (what qpsolvers
-passes it, without qpsolvers' per-call problem checks: 33 against 71 us measured), or by any
-other solver through qpsolvers. The task rows are written into buffers kept between calls;
+angles (Murooka V-A1) and an optional centroidal angular momentum task I_all dv = L^p dt
+toward the plan's angular momentum (`WholeBodyTargets.angular_momentum_world`; zero without
+one) (Murooka V-F), subject to the joint position limits and the joint velocity limits over
+one period. The QP is solved by DAQP (the default: the fastest on this dense 26-variable
+problem, see `make benchmark`), called directly with the bounds as DAQP's simple bounds (what
+qpsolvers passes it, without qpsolvers' per-call problem checks: 33 against 71 us measured),
+or by any other solver through qpsolvers. The task rows are written into buffers kept between calls;
 the posture task's rows [0 I] enter the Hessian and gradient directly, and the QP's terms, the
 bounds and the pose errors are compiled kernels (`qp_terms`, `centroidal.kernels.pose_errors`).
 
@@ -208,7 +209,10 @@ class WholeBodyIK:
         if w.angular_momentum > 0:
             centroidal = pin.computeCentroidalMap(model, data, q)
             jacobian_rows[n : n + 3] = centroidal[3:]
-            error_rows[n : n + 3] = 0.0
+            # L = I_all q' toward the plan's L^p: I_all dv = L^p dt (times the gain; Murooka
+            # Sec. V-F, the authors' momentum task targets the planned momentum)
+            planned = targets.angular_momentum_world
+            error_rows[n : n + 3] = 0.0 if planned is None else planned * self.dt
             weight_rows[n : n + 3] = w.angular_momentum
             n += 3
 

@@ -44,8 +44,11 @@ register(
 
 IK_ANGULAR_MOMENTUM_WEIGHT = 100.0
 """`ik_angular_momentum`'s weight on the centroidal angular momentum of the IK's step, I_all dq
--> 0 (Murooka Sec. V-F: "adding the angular momentum task [1] to the whole-body IK"; the paper
-gives no weight: ours, as the IK's other weights, dimensionless on dq [rad or m])."""
+-> L^p dt, the plan's angular momentum I omega^p (eq. 6) over the period (Murooka Sec. V-F:
+"adding the angular momentum task [1] to the whole-body IK"; the authors' MultiContactController
+sets its momentum task's target to the planned centroidal momentum; until 2026-12-03 ours drove
+it to zero, which held the base back from a planned turn, 8.5 % of a 0.1 rad pitch). The paper
+gives no weight: ours, as the IK's other weights, dimensionless on dq [rad or m]."""
 
 
 def _ik_angular_momentum(model: RobotModel, dt: float) -> IkLayer:
