@@ -28,6 +28,22 @@ def _random_state(model, rng):
     return q, v
 
 
+def _targets(n_limbs: int, in_contact, wrenches, acceleration) -> WholeBodyTargets:
+    """Targets with only what the layer reads: the contacts, their desired wrenches (limb
+    frames) and q'' (None: not given)."""
+    return WholeBodyTargets(
+        com_position_world=np.zeros(3),
+        base_orientation_world=np.array([1.0, 0, 0, 0]),
+        limb_position_world=np.zeros((n_limbs, 3)),
+        limb_orientation_world=np.tile([1.0, 0, 0, 0], (n_limbs, 1)),
+        limb_in_contact=in_contact,
+        com_desired_world=np.zeros(3),
+        zmp_desired_world=np.zeros(3),
+        contact_wrench_desired_limb=wrenches,
+        generalized_acceleration=acceleration,
+    )
+
+
 def _consistent_motion(model, seed: int):
     """Random posture q, velocity v, joint accelerations and foot wrenches (limb frames); the
     base's accelerations from the base rows (eq. 2, M_bb a_b = sum J_c,b^T f - h_b - M_bj a_j,
@@ -94,17 +110,7 @@ def test_the_layer_takes_the_robot_s_own_velocity(model):
         q[7:], v[6:],
     )  # fmt: skip
     limbs = model.robot.limbs
-    targets = WholeBodyTargets(
-        com_position_world=np.zeros(3),
-        base_orientation_world=np.array([1.0, 0, 0, 0]),
-        limb_position_world=np.zeros((len(limbs), 3)),
-        limb_orientation_world=np.tile([1.0, 0, 0, 0], (len(limbs), 1)),
-        limb_in_contact=in_contact,
-        com_desired_world=np.zeros(3),
-        zmp_desired_world=np.zeros(3),
-        contact_wrench_desired_limb=wrenches,
-        generalized_acceleration=acceleration,
-    )
+    targets = _targets(len(limbs), in_contact, wrenches, acceleration)
     layer = make_whole_body("inverse_dynamics", model, 0.002)
     layer.reset(model, state)
     torque = layer.command(targets, state).torque_feedforward
@@ -144,17 +150,7 @@ def test_the_layer_commands_pure_torque(model):
         wrenches[k] = np.concatenate(
             [rotation.T @ world[6 * i : 6 * i + 3], rotation.T @ world[6 * i + 3 : 6 * i + 6]]
         )
-    targets = WholeBodyTargets(
-        com_position_world=np.zeros(3),
-        base_orientation_world=np.array([1.0, 0, 0, 0]),
-        limb_position_world=np.zeros((len(limbs), 3)),
-        limb_orientation_world=np.tile([1.0, 0, 0, 0], (len(limbs), 1)),
-        limb_in_contact=in_contact,
-        com_desired_world=np.zeros(3),
-        zmp_desired_world=np.zeros(3),
-        contact_wrench_desired_limb=wrenches,
-        generalized_acceleration=np.zeros(model.model.nv),
-    )
+    targets = _targets(len(limbs), in_contact, wrenches, np.zeros(model.model.nv))
     command = layer.command(targets, state)
     assert not command.kp.any()
     assert not command.kd.any()
@@ -168,14 +164,6 @@ def test_a_stabilizer_without_accelerations_is_refused(model):
     layer = make_whole_body("inverse_dynamics", model, 0.002)
     state = model.standing_state()
     limbs = model.robot.limbs
-    targets = WholeBodyTargets(
-        com_position_world=np.zeros(3),
-        base_orientation_world=np.array([1.0, 0, 0, 0]),
-        limb_position_world=np.zeros((len(limbs), 3)),
-        limb_orientation_world=np.tile([1.0, 0, 0, 0], (len(limbs), 1)),
-        limb_in_contact=np.ones(len(limbs), dtype=bool),
-        com_desired_world=np.zeros(3),
-        zmp_desired_world=np.zeros(3),
-    )
+    targets = _targets(len(limbs), np.ones(len(limbs), dtype=bool), None, None)
     with pytest.raises(ValueError, match="generalized_acceleration"):
         layer.command(targets, state)
