@@ -276,7 +276,8 @@ class WholeBodyTargets:
     (contact frame) targets; limb_in_contact (n_limbs,) bool: contact limbs are held, the others
     tracked; com_desired_world [m] and zmp_desired_world (3,) [m]: for the record;
     contact_wrench_desired_limb (n_limbs, 6) or None: desired contact wrenches in each limb's
-    contact frame (the whole-body layer turns them into feed-forward torques); joint_torque
+    contact frame, the moment about its origin (the whole-body layer turns them into
+    feed-forward torques); joint_torque
     (n_joints,) [N m] or None: extra feed-forward torques; timings_ns: sub-stage times."""
 
     com_position_world: np.ndarray

@@ -9,7 +9,9 @@ It is the whole-body IK (`wholebody.ik`) with the tasks changed to the generator
   R_I^set: 3 rows with the analytic Jacobian of the eigenvector,
   de_z = sum_{j in x, y} e_j (e_j^T dI e_z) / (lambda_z - lambda_j), dI from the five point
   masses' Jacobians (pinocchio's subtree CoM Jacobians);
-- the trunk's yaw at R_I's yaw (the generator turns the trunk to the set inertia yaw psi_I);
+- the trunk's yaw at the targets' base yaw (`WholeBodyTargets.base_orientation_world`; the
+  generator turns the trunk to the set inertia yaw psi_I, which `planners.five_mass_gait`
+  plans from the same heading);
   the trunk's roll and pitch are free, so that the inertia tilt is realised by the upper body
   against the legs, as the generator's dumbbell tilt;
 - the arms held to the trunk (each free arm's own joints at their nominal angles,
@@ -44,8 +46,10 @@ How it differs from the paper's generator: it solves one weighted least-squares 
 period instead of the generator's closed-form top-down construction (virtual leg, dumbbells);
 it does not set the principal moments I_PA (the posture task keeps the arms and legs near the
 nominal posture instead) nor the separate dumbbell yaws psi_l, psi_u; and the straight-support
--leg constraint (Sec. 2) is an option (`straight_leg`): a task holding the support knee at its
-lower limit plus a margin, with the CoM height freed, instead of a shift of the base frame.
+-leg constraint (Sec. 2) is an option (`straight_leg`): a task holding each contact leg's knee
+at its lower limit plus a margin (both knees in double support, where the paper straightens
+the one supporting leg), with the CoM height left free (the paper keeps vertical CoM control,
+by the upper body and arms), instead of a shift of the base frame.
 """
 
 from __future__ import annotations

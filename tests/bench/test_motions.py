@@ -546,7 +546,8 @@ def test_hand_wall_steps_on_the_boards_and_switches_hands(scale):
 @pytest.mark.parametrize("sim", ["mujoco", "pybullet"])
 def test_hand_wall_completes_with_feedforward_torques(sim):
     """(A) with Murooka's pair and the `ik_feedforward` layer walks the whole scaffold, the
-    palm on the wall: no fall, the base never tilted by more than 10 deg, both feet ending on
+    palm on the wall: no fall, the base never tilted by more than 4 deg (measured 1.97 / 1.88
+    deg, MuJoCo / PyBullet, 2026-12-03), both feet ending on
     the ground within 5 cm of the last foothold (x = 2.05 m). In MuJoCo since (A)'s swings are
     the authors' (`robots.swing`; with our lifted swing it fell at 42.4 s, the stance feet
     yawing up to 0.18 rad). With the paper's `ik` layer it falls (`_FALLS` below)."""
@@ -556,7 +557,7 @@ def test_hand_wall_completes_with_feedforward_torques(sim):
     assert result.summary["status"] == "ok", result.summary["error"]
     trace = result.trace
     q = trace[["base_quat_x", "base_quat_y"]].to_numpy()
-    assert np.degrees(2 * np.arcsin(np.hypot(q[:, 0], q[:, 1]))).max() < 10.0
+    assert np.degrees(2 * np.arcsin(np.hypot(q[:, 0], q[:, 1]))).max() < 4.0
     steps = result.footsteps
     for foot in ("left_foot", "right_foot"):
         last = steps[steps["limb"] == foot].iloc[-1]
