@@ -104,12 +104,10 @@ def test_an_arms_own_joints_leave_out_the_waist_both_arms_share():
         np.testing.assert_array_equal(joints, chains[k])
 
 
-def _tilted_pose(straight_leg: bool, single_support: bool, tilt_axis: np.ndarray) -> tuple:
-    """The five-mass IK from the standing pose, the CoM and the feet held, its inertia axes
-    set 0.02 rad about `tilt_axis` from the standing ones, 200 periods: (base rotation
-    relative to the untilted solution as a rotation vector [rad], the untilted and tilted
-    joint angles [rad])."""
-    model = RobotModel(humanoid())
+def _standing_five_mass_ik(model, straight_leg: bool, single_support: bool):
+    """The five-mass IK reset to the standing pose: (ik, its configuration q0, targets(R)) where
+    targets(R) holds the CoM and the feet where they stand (the left foot alone in contact in
+    single support) and sets the inertia axes to R times the standing ones."""
     ik = FiveMassIK(model, 0.002, straight_leg=straight_leg)
     ik.reset(model.standing_state())
     q0 = ik.q.copy()
@@ -124,12 +122,26 @@ def _tilted_pose(straight_leg: bool, single_support: bool, tilt_axis: np.ndarray
     feet = np.array([name.endswith("foot") for name in limbs])
     contact = np.array([name == "left_foot" for name in limbs]) if single_support else feet
 
-    def solve(rotation: np.ndarray) -> np.ndarray:
-        ik.q = q0.copy()
-        targets = WholeBodyTargets(
+    def targets(rotation: np.ndarray) -> WholeBodyTargets:
+        return WholeBodyTargets(
             com, np.array([1.0, 0, 0, 0]), position, orientation, contact, com, com,
             limb_tracked=feet, inertia_axes_world=rotation @ axes,
         )  # fmt: skip
+
+    return ik, q0, targets
+
+
+def _tilted_pose(straight_leg: bool, single_support: bool, tilt_axis: np.ndarray) -> tuple:
+    """The five-mass IK from the standing pose, the CoM and the feet held, its inertia axes
+    set 0.02 rad about `tilt_axis` from the standing ones, 200 periods: (base rotation
+    relative to the untilted solution as a rotation vector [rad], the untilted and tilted
+    joint angles [rad])."""
+    model = RobotModel(humanoid())
+    ik, q0, targets_with = _standing_five_mass_ik(model, straight_leg, single_support)
+
+    def solve(rotation: np.ndarray) -> np.ndarray:
+        ik.q = q0.copy()
+        targets = targets_with(rotation)
         for _ in range(200):
             ik.solve(targets)
         return ik.q.copy()
@@ -200,23 +212,9 @@ def test_the_straight_support_knee_approaches_its_limit_with_its_time_constant()
     from wholebody.five_mass_pose import KNEE_MARGIN_RAD, KNEE_TIME_CONSTANT_S
 
     model = RobotModel(humanoid())
-    ik = FiveMassIK(model, 0.002, straight_leg=True)
-    ik.reset(model.standing_state())
-    q0 = ik.q.copy()
-    pin.framesForwardKinematics(model.model, ik.data, q0)
-    limbs = model.robot.limb_names
-    position = np.array([ik.data.oMf[f].translation for f in ik.limb_frames])
-    orientation = np.array(
-        [pin.Quaternion(ik.data.oMf[f].rotation).coeffs()[[3, 0, 1, 2]] for f in ik.limb_frames]
-    )
-    com = pin.centerOfMass(model.model, ik.data, q0).copy()
-    feet = np.array([name.endswith("foot") for name in limbs])
-    contact = np.array([name == "left_foot" for name in limbs])
-    targets = WholeBodyTargets(
-        com, np.array([1.0, 0, 0, 0]), position, orientation, contact, com, com,
-        limb_tracked=feet, inertia_axes_world=ik.five.evaluate(q0).axes_world.copy(),
-    )  # fmt: skip
-    (knee,) = [j for limb, j in ik.knees if contact[limb]]
+    ik, q0, targets_with = _standing_five_mass_ik(model, True, True)
+    targets = targets_with(np.eye(3))
+    (knee,) = [j for limb, j in ik.knees if targets.limb_in_contact[limb]]
     angles = [q0[7 + knee]]
     for _ in range(500):
         ik.solve(targets)
