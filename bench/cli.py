@@ -39,6 +39,7 @@ from bench.limits import (
 )
 from bench.push_protocol import MAX_REPLICAS
 from bench.robustness import DIMENSIONS, EXAMPLES
+from centroidal.gravity import GRAVITY
 from estimators import DEFAULT_ESTIMATOR
 from robots.perturbation import NOISE_CHANNELS
 from sims.base import SIMULATORS, MissingDependencyError
@@ -1058,7 +1059,7 @@ def _demo(args: argparse.Namespace) -> int:
     model = RobotModel(robot)
     initial = model.standing_state()
     command = model.hold_command(initial)
-    weight = robot.total_mass * 9.81
+    weight = robot.total_mass * GRAVITY
     print(
         f"{robot.name}: {robot.total_mass:.2f} kg, {robot.n_joints} joints, "
         f"standing CoM height {model.com_position_world(initial)[2]:.3f} m; "

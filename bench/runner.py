@@ -46,6 +46,7 @@ from bench.momentum import EVERY as MOMENTUM_EVERY
 from bench.momentum import AngularMomentumErrors
 from bench.provenance import provenance
 from bench.scenarios import make_scenario
+from centroidal.gravity import check_modelled_gravity
 from centroidal.rotations import to_matrix, yaw_of
 from centroidal.support import margin_inside, support_halfplanes, surface_vertices_world
 from estimators.base import DEFAULT_ESTIMATOR, make_estimator
@@ -401,6 +402,7 @@ def _run_episode(
         torque_use = TorqueUse(simulated.joint_names, simulated.array("torque_limit"))
         scenario = _pushed(spec, model)
         scene = scenario.scene
+        check_modelled_gravity(scene.gravity)
         # the ground the simulator has (the controllers keep the scenario's: flat)
         simulated_ground = simulated_scene(scene, perturbation, spec.seed, spec.scale)
         summary.update(friction=scene.friction, mass_kg=robot.total_mass)

@@ -23,7 +23,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
-GRAVITY = 9.81  # [m/s^2]
+from centroidal.gravity import GRAVITY
+
 SWING_TIME_FLOOR_S = 0.002  # one control period at 500 Hz; see swing_cubic
 
 

@@ -50,7 +50,7 @@ import numpy as np
 import scipy.linalg
 import scipy.sparse
 
-GRAVITY = 9.81
+from centroidal.gravity import GRAVITY
 
 
 @dataclass(frozen=True)

@@ -37,7 +37,9 @@ import qpsolvers
 import scipy.optimize
 import scipy.sparse
 
-GRAVITY = np.array([0.0, 0.0, 9.81])
+from centroidal import gravity
+
+GRAVITY = np.array([0.0, 0.0, gravity.GRAVITY])  # [m/s^2] (0, 0, g)
 DEFAULT_BACKEND = "daqp_native"  # fastest accurate on the walk's contact sets; see docs/latency.md
 REGULARIZATION = 1e-8
 AUTHORS_RIDGE_BOUNDS = (3.0, 1000.0)

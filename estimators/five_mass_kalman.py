@@ -45,6 +45,7 @@ import numpy as np
 import pinocchio as pin
 from scipy.linalg import solve_discrete_are
 
+from centroidal.gravity import GRAVITY
 from centroidal.kernels import relative_configuration
 from centroidal.tilt import flywheel_angles
 from estimators.base import ComponentSpec, EstimatorBase, register
@@ -52,7 +53,6 @@ from robots.five_mass import FiveMassModel
 from robots.model import RobotModel
 from robots.types import CentroidalPlan, RobotState, Sensors
 
-GRAVITY = 9.81
 HYSTERESIS_M = 0.005  # [m] at scale 1
 COM_POSITION_NOISE_M = 0.002  # [m] five-mass CoM against the true one (model, encoder errors)
 TRUNK_ACCELERATION_NOISE = 1.0  # [m/s^2] the trunk's acceleration is the CoM's only roughly

@@ -12,6 +12,7 @@ import numpy as np
 import pinocchio as pin
 from numba import njit
 
+from centroidal.gravity import GRAVITY
 from centroidal.kernels import relative_configuration
 from estimators.base import ComponentSpec, EstimatorBase, register
 from robots.model import RobotModel
@@ -51,7 +52,7 @@ class ProprioceptiveEstimator(EstimatorBase):
 
     def __init__(self, model: RobotModel, contact_threshold: float = 0.05) -> None:
         super().__init__(model)
-        self.contact_force = contact_threshold * model.robot.total_mass * 9.81
+        self.contact_force = contact_threshold * model.robot.total_mass * GRAVITY
         self.anchors = np.zeros((len(self.limb_frames), 3))
         self.in_contact = np.zeros(len(self.limb_frames), dtype=bool)
         self.base_position = np.zeros(3)

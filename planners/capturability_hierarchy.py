@@ -50,6 +50,7 @@ import numpy as np
 import pinocchio as pin
 
 from centroidal.capture_preview import capture_velocity_row, preview, swing_cubic
+from centroidal.gravity import GRAVITY
 from centroidal.hierarchy import HierarchyError, Level, solve_hierarchy
 from centroidal.whole_body_rows import WholeBodyTerms, whole_body_terms
 from planners.base import PlannerSpec, register
@@ -59,7 +60,6 @@ from robots.registry import FLAT_GROUND
 from robots.scene import Scenario
 from robots.types import CentroidalPlan, Footstep, RobotState
 
-GRAVITY = 9.81
 HAND = "right_hand"  # the hand of eq. 17 (the paper drives the right hand)
 PREVIEW_INTERVALS = 16  # N: two steps of 0.8 s at 100 ms (Sec. VII)
 PREVIEW_PERIOD_S = 0.1

@@ -54,6 +54,7 @@ from dataclasses import dataclass
 import numpy as np
 from scipy.optimize import brentq
 
+from centroidal.gravity import GRAVITY
 from centroidal.lipm import (
     critically_damped,
     gait_frequency,
@@ -71,7 +72,6 @@ from robots.model import RobotModel
 from robots.scene import Scenario
 from robots.types import CentroidalPlan, Footstep, RobotState
 
-GRAVITY = 9.81
 STEP_SIZE_GAIN = 1.0  # K_s (Sec. 4)
 # The walk's start from rest (ours, not in the paper): the gait command's speed rises at this
 # acceleration [m/s^2] (`centroidal.lipm.stride_factors`). The authors' lab's gait (the

@@ -12,6 +12,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from centroidal.gravity import GRAVITY
 from robots.gait import GaitCommand
 from robots.swing import cubic_spline_simple_swing
 
@@ -157,7 +158,7 @@ class Scene:
 
     boxes: tuple[Box, ...] = ()
     friction: float = 0.6
-    gravity: float = 9.81
+    gravity: float = GRAVITY
     physics_dt: float = 0.001
     control_dt: float = 0.002
     ground: bool = True

@@ -37,6 +37,7 @@ import numpy as np
 import scipy.linalg
 
 from centroidal.contacts import ContactSet, contact_set
+from centroidal.gravity import GRAVITY
 from centroidal.kernels import damping_control
 from centroidal.projection import DEFAULT_BACKEND, WrenchProjector, gravity_offset
 from centroidal.rotations import (
@@ -55,7 +56,6 @@ from robots.scene import Scenario
 from robots.types import CentroidalPlan, RobotState, WholeBodyTargets
 from stabilizers.base import StabilizerSpec, register
 
-GRAVITY = 9.81
 HRP5P = {"mass": 105.0, "omega2": 9.8 / 0.95}
 TABLE_III = {
     "kp": (2000.0, 2000.0, 2000.0, 0.0, 0.0, 0.0),

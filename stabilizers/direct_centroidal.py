@@ -69,6 +69,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from centroidal.gravity import GRAVITY
 from centroidal.lipm import leaky_alpha, lipm_state
 from centroidal.tilt import axis_from_angles, flywheel_angles, tilt_rotation
 from robots.five_mass import FiveMassModel
@@ -77,7 +78,6 @@ from robots.scene import Scenario
 from robots.types import CentroidalPlan, RobotState, WholeBodyTargets
 from stabilizers.base import StabilizerSpec, register
 
-GRAVITY = 9.81
 VELOCITY_GAIN = 0.5  # K_vel (Sec. 4)
 EOS_GAIN_RATIO = 0.5  # K_eos = 0.5 K_com (Sec. 4)
 

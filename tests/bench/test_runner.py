@@ -10,10 +10,13 @@ from dataclasses import replace
 import numpy as np
 import pytest
 
+from bench import runner
 from bench.branching import PUSH_TIMING_DELAY_PERIODS
 from bench.results import read_trace, write_trace
 from bench.runner import EpisodeSpec, run_episode, summary_json_ready
+from centroidal.gravity import GRAVITY, check_modelled_gravity
 from robots.robot_registry import make_robot
+from robots.scene import Scene
 from stabilizers import base as stabilizer_registry
 from stabilizers.posture import PostureStabilizer
 
@@ -88,6 +91,28 @@ def test_a_bad_spec_is_an_error_row_not_an_exception():
     assert result.summary["status"] == "error"
     assert "unknown planner 'nonexistent'; choose one of: " in result.summary["error"]
     assert "hold, linear_mpc, preview_control, preview_zmp" in result.summary["error"]
+    assert len(result.trace) == 0
+
+
+def test_a_scene_with_other_gravity_is_a_setup_error(monkeypatch):
+    """The controllers model g = 9.81 m/s^2 (the LIPM's omega, the weight, the IMU's
+    gravity-free acceleration): a scene with another gravity ends as a set-up error that says
+    so, before any simulator runs; the scene's default passes."""
+    make_scenario = runner.make_scenario
+
+    def lunar(*args):
+        scenario = make_scenario(*args)
+        return replace(scenario, scene=replace(scenario.scene, gravity=1.62))
+
+    assert Scene().gravity == GRAVITY
+    check_modelled_gravity(Scene().gravity)
+    monkeypatch.setattr(runner, "make_scenario", lunar)
+    result = run_episode(EpisodeSpec("hold", "posture", "mujoco", "stand", duration=0.1))
+    assert result.summary["status"] == "error"
+    assert result.summary["error_stage"] == "setup"
+    assert (
+        "the scene's gravity is 1.62 m/s^2, the controllers model 9.81" in (result.summary["error"])
+    )
     assert len(result.trace) == 0
 
 
