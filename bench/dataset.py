@@ -429,6 +429,7 @@ class ResultStore:
         overwrite: bool,
         identity: dict[str, Any] | None = None,
         retry: tuple[str, ...] = (),
+        expected: set[str] | None = None,
     ) -> set[str]:
         """Make the directory ready for `spec` (call inside `locked`) and return the ids of
         the episodes already done, which the sweep skips.
@@ -459,7 +460,7 @@ class ResultStore:
                     f"{self.root} holds the results of another spec (fields that differ: "
                     f"{', '.join(fields) or 'unknown'}); --resume needs the same spec"
                 )
-            done = self._valid_ids(retry)
+            done = self._valid_ids(retry, expected)
         try:
             for leftover in [*self.root.glob(".trash-*"), *self.root.glob("*/.*.tmp")]:
                 # a deletion or a write that a killed sweep left unfinished
@@ -478,9 +479,13 @@ class ResultStore:
             raise ResultStoreError(_io_message(self.root, exc)) from exc
         return done
 
-    def _valid_ids(self, retry: tuple[str, ...]) -> set[str]:
+    def _valid_ids(self, retry: tuple[str, ...], expected: set[str] | None = None) -> set[str]:
         """Ids of the valid episode files whose status is not in `retry`; invalid files are
-        moved to corrupt/ (their episodes run again)."""
+        moved to corrupt/ (their episodes run again). ResultStoreError when a file holds an
+        episode that is not among `expected` (the spec's ids): the spec is the same, but what
+        the code derives from it (a push's impulse from the robot's mass, a walking push's
+        time from the gait) has changed since, and resuming would run every such episode again
+        beside its old result."""
         table, bad = scan_episodes(self.root)
         for path, _ in bad:
             self.corrupt_dir.mkdir(exist_ok=True)
@@ -490,6 +495,14 @@ class ResultStore:
         if table is None:
             return set()
         ids = table.column("episode_id").to_pylist()
+        foreign = sorted(set(ids) - expected) if expected is not None else []
+        if foreign:
+            raise ResultStoreError(
+                f"{self.root} holds {len(foreign)} episodes that this spec no longer derives "
+                f"(for example {foreign[0]}): the code or the robot changed since they ran; "
+                "--resume would run them again beside the old ones, pass --overwrite or "
+                "another --out"
+            )
         statuses = table.column("status").to_pylist()
         return {i for i, status in zip(ids, statuses, strict=True) if status not in retry}
 

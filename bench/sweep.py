@@ -252,6 +252,7 @@ def run_sweep(
                     overwrite=overwrite,
                     identity=spec.identity(),
                     retry=RETRIED_STATUSES if retry_errors else (),
+                    expected=set(counts),
                 )
                 todo = [e for e in episodes if e.episode_id not in finished]
                 for episode in [e for e in todo if e.refused is not None]:  # not run: n/a

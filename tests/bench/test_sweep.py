@@ -185,6 +185,36 @@ def test_existing_results_need_resume_or_overwrite(tmp_path: Path):
     assert main([*flags, "--resume"]) == 2  # another spec: refuse to resume
 
 
+def test_resume_refuses_results_the_spec_no_longer_derives(tmp_path: Path, monkeypatch):
+    """A push's impulse is m dv with the robot's mass [kg]: after a change to the robot (here
+    +0.1 kg) the same spec derives other episodes. Resuming would run each of them again beside
+    its old result (until 2026-12-04: 6 rows for a spec of 3), so it is refused, nothing moved;
+    a resume with the code unchanged still finds the sweep complete."""
+    from bench import push_protocol
+    from bench.dataset import ResultStoreError
+
+    out = tmp_path / "out"
+    spec = small_spec(count=1, sims=["mujoco"])
+    total = len(spec.episodes())
+    run_sweep(spec, out, workers=1, progress=False, work=recording_work_quiet)
+    files = sorted(p.name for p in (out / "episodes").iterdir())
+    assert len(files) == total
+    again = run_sweep(spec, out, workers=1, progress=False, resume=True, work=recording_work_quiet)
+    assert len(again) == total  # unchanged: nothing to run, nothing twice
+    mass = push_protocol.robot_mass
+    monkeypatch.setattr(push_protocol, "robot_mass", lambda *a: mass(*a) + 0.1)
+    with pytest.raises(ResultStoreError, match="episodes that this spec no longer derives"):
+        run_sweep(spec, out, workers=1, progress=False, resume=True, work=recording_work_quiet)
+    assert sorted(p.name for p in (out / "episodes").iterdir()) == files
+
+
+def recording_work_quiet(episode):
+    """Runs nothing: an error row for each episode."""
+    from bench.sweep import _failure_row
+
+    return _failure_row(episode, RuntimeError("not run: resume test")), None
+
+
 _ORDER_ENV = "CENTROBENCH_TEST_ORDER"
 
 
