@@ -257,15 +257,17 @@ class SweepSpec:
     def episodes(self) -> list[Episode]:
         """Every episode of the grid, in a fixed order, each with a stable id; for a job of
         protocols, those of each protocol in order (labelled with its name), an episode that
-        two protocols share once, under the first."""
+        two protocols share once, under the first, with its trace kept if either keeps it."""
         if self.protocols:
-            result, seen = [], set()
+            first: dict[str, Episode] = {}
             for protocol in self.protocols:
                 for episode in protocol.episodes():
-                    if episode.episode_id not in seen:
-                        seen.add(episode.episode_id)
-                        result.append(replace(episode, protocol=protocol.name))
-            return result
+                    kept = first.get(episode.episode_id)
+                    if kept is None:
+                        first[episode.episode_id] = replace(episode, protocol=protocol.name)
+                    elif episode.keep_trace and not kept.keep_trace:
+                        first[episode.episode_id] = replace(kept, keep_trace=True)
+            return list(first.values())
         result = []
         for controller in self.controllers:
             pair = controller_spec(controller)

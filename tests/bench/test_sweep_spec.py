@@ -383,6 +383,23 @@ JOB = {
 }
 
 
+def test_an_episode_two_protocols_share_keeps_its_trace_if_either_asks():
+    """`stand` is in both protocols; the second asks for its trace: the one episode, listed
+    under the first, keeps it (until 2026-12-04 only the first protocol's choice counted)."""
+    job = spec_from_mapping(
+        {
+            "controllers": ["hold+posture"],
+            "sims": ["mujoco"],
+            "protocols": [
+                {"name": "a", "scenarios": ["stand", "walk"], "traces": []},
+                {"name": "b", "scenarios": ["stand"], "traces": ["stand"]},
+            ],
+        }
+    )
+    kept = {(e.protocol, e.run.scenario): e.keep_trace for e in job.episodes()}
+    assert kept == {("a", "stand"): True, ("a", "walk"): False}
+
+
 def test_a_job_is_its_protocols_episodes_in_order_each_once():
     job = spec_from_mapping(JOB)
     top = {k: v for k, v in JOB.items() if k != "protocols"}
