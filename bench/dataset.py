@@ -264,8 +264,17 @@ def failure_row(
 ) -> dict[str, Any]:
     """The row of an episode that produced no summary: its worker died or it raised (status
     "error"), or it overran its wall-clock budget (status "timeout", with the `stage` it was
-    in and the simulated `duration` [s] it reached)."""
+    in and the simulated `duration` [s] it reached). Its code's provenance (`git_commit`,
+    `versions_json`, `centrobench_version`) is that of the process that writes the row, the
+    sweep's; `cpu` and `worker` stay null, since the worker that ran it is not known here."""
+    from bench.provenance import git_commit, versions
+
     row: dict[str, Any] = {name: None for name in ROW_SCHEMA.names}
+    row.update(
+        git_commit=git_commit(),
+        centrobench_version=versions().get("centrobench"),
+        versions_json=json.dumps(versions(), sort_keys=True),
+    )
     row.update(base)
     row.update(labels)
     row.update(status=status, error=message, error_stage=stage, fell=False, duration=duration)
@@ -566,17 +575,20 @@ class ResultStore:
         self, row: dict[str, Any], trace: pd.DataFrame | None, footsteps: pd.DataFrame | None
     ) -> None:
         episode_id = row["episode_id"]
-        if trace is not None and len(trace) and footsteps is not None:
+        has_trace = trace is not None and len(trace) > 0
+        # every table converted before any file is written: one that does not convert leaves
+        # nothing behind (no trace without its row)
+        files = []
+        if has_trace and footsteps is not None:
             table = pa.Table.from_pandas(footsteps, preserve_index=False)
-            _atomic_write_table(table, self.traces_dir / f"{episode_id}.footsteps.parquet")
-        if trace is not None and len(trace):
+            files.append((table, self.traces_dir / f"{episode_id}.footsteps.parquet"))
+        if has_trace:
             table = pa.Table.from_pandas(trace, preserve_index=False)
-            _atomic_write_table(table, self.traces_dir / f"{episode_id}.parquet")
-            row = {**row, "has_trace": True}
-        else:
-            row = {**row, "has_trace": False}
-        table = pa.Table.from_pylist([row], schema=ROW_SCHEMA)
-        _atomic_write_table(table, self.episodes_dir / f"{episode_id}.parquet")
+            files.append((table, self.traces_dir / f"{episode_id}.parquet"))
+        table = pa.Table.from_pylist([{**row, "has_trace": has_trace}], schema=ROW_SCHEMA)
+        files.append((table, self.episodes_dir / f"{episode_id}.parquet"))  # the row last
+        for table, path in files:
+            _atomic_write_table(table, path)
 
     def trace(self, episode_id: str) -> pd.DataFrame:
         return pq.read_table(self.traces_dir / f"{episode_id}.parquet").to_pandas()

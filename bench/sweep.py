@@ -41,6 +41,7 @@ from bench.dataset import (
     summary_row,
 )
 from bench.executors import EpisodeTimeout, make_executor, worker_progress
+from bench.push_protocol import robot_mass
 from bench.runner import EpisodeResult, run_episode
 from bench.sweep_spec import Episode, SweepSpec
 from robots.perturbation import NOMINAL
@@ -148,6 +149,8 @@ def _failure_row(episode: Episode, exc: BaseException) -> dict[str, Any]:
         whole_body=run["whole_body"],
         speed=run["speed"],
         replica=run["replica"],
+        requested_duration=run["duration"],
+        mass_kg=_nominal_mass(run["scale"], run["robot"]),
         **(episode.run.perturbation or NOMINAL).columns(),
     )
     if isinstance(exc, NotApplicable):
@@ -162,6 +165,15 @@ def _failure_row(episode: Episode, exc: BaseException) -> dict[str, Any]:
             duration=exc.sim_time_s,
         )
     return failure_row(episode.labels(), base, f"{type(exc).__name__}: {exc}")
+
+
+def _nominal_mass(scale: float, robot: str) -> float | None:
+    """The robot's total mass [kg] as the runner records it (`mass_kg`), or None when the
+    robot cannot be built (a failure row must never fail)."""
+    try:
+        return robot_mass(scale, robot)
+    except Exception:
+        return None
 
 
 class NotApplicable(Exception):

@@ -355,10 +355,11 @@ def test_a_result_that_does_not_fit_the_schema_is_an_error_row_and_the_sweep_goe
     tmp_path: Path, monkeypatch
 ):
     """Until 2026-12-03 pyarrow's ArrowTypeError left the sweep, and every resume died at the
-    same episode, which was never written: now it is an error row that says why."""
+    same episode, which was never written: now it is an error row that says why, and the
+    trace it kept is not left behind without its row (until 2026-12-04 it was)."""
     spec = small_spec()
     episodes = spec.episodes()
-    target = episodes[1].episode_id
+    target = next(e.episode_id for e in episodes if e.keep_trace)
     monkeypatch.setenv(_POISON_ENV, target)
     frame = run_sweep(spec, tmp_path / "out", workers=2, progress=False, work=poisoned_work)
     assert sorted(frame["episode_id"]) == sorted(e.episode_id for e in episodes)
@@ -366,3 +367,7 @@ def test_a_result_that_does_not_fit_the_schema_is_an_error_row_and_the_sweep_goe
     assert rows.loc[target, "status"] == "error"
     assert "result could not be recorded" in rows.loc[target, "error"]
     assert set(rows.drop(index=target)["status"]) == {"ok"}
+    assert not rows.loc[target, "has_trace"]
+    traces = {p.name.split(".")[0] for p in (tmp_path / "out" / "traces").iterdir()}
+    assert target not in traces
+    assert traces == set(rows.index[rows["has_trace"]])  # the others' traces are there

@@ -168,6 +168,12 @@ def test_hung_episode_is_a_timeout_row_with_its_stage_and_resume_reruns_it(
     assert pd.isna(row["survived"])  # a timeout says nothing about the controller
     others = frame[frame["episode_id"] != target.episode_id]
     assert set(others["status"]) == {"ok"}
+    # the code that ran it, as on the rows that finished; the worker that ran it is not known
+    ok = others.iloc[0]
+    for column in ("git_commit", "centrobench_version", "versions_json", "mass_kg"):
+        assert row[column] == ok[column]
+    assert row["requested_duration"] == pytest.approx(0.5)
+    assert pd.isna(row["worker"])
     files = {p.name: p.stat().st_mtime_ns for p in (out / "episodes").iterdir()}
     pd.testing.assert_frame_equal(resume(out), frame)  # a plain resume: nothing is missing
     assert {p.name: p.stat().st_mtime_ns for p in (out / "episodes").iterdir()} == files
