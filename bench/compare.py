@@ -12,16 +12,14 @@ formulation and solver (Sec. V-E: Audren's MPC takes 20 ms for 20 samples).
 
 from __future__ import annotations
 
-import multiprocessing
 import os
 import time
 from collections.abc import Callable, Sequence
-from concurrent.futures import ProcessPoolExecutor
 
 import numpy as np
 import pandas as pd
 
-from bench.executors import single_threaded_workers
+from bench.executors import EpisodeTimeout, make_executor
 from bench.metrics import feedback_magnitude
 from bench.runner import EpisodeSpec, run_episode
 from reports.paper_figures import PAPER_SCENARIO, PAPER_SEC_V_G
@@ -120,27 +118,52 @@ def compare(
     progress: Callable[[dict], None] | None = None,
     duration: float | None = None,
     robot: str = DEFAULT_ROBOT,
+    work: Callable[[EpisodeSpec], dict] = _row,
+    budget_s: float | None = None,
 ) -> pd.DataFrame:
-    """One episode per planner x simulator (in parallel processes), as a DataFrame with the
-    columns of `COMPARISON_COLUMNS` plus `error`. A failed episode is a row with its status.
-    `duration` [s] shortens the scenario (None: its own); `robot` a registered robot."""
+    """One episode per planner x simulator (in parallel processes, the sweeps' executor), as a
+    DataFrame with the columns of `COMPARISON_COLUMNS` plus `error`, in the order planners x
+    sims. A failed episode is a row with its status: the runner's, or "timeout" for one that
+    overran its wall-clock budget (`budget_s` [s]; None: a sweep's default budget for its
+    simulated time, `SweepSpec.wall_budget_s`) and "error" for one whose worker died; the
+    other rows are kept. `duration` [s] shortens the scenario (None: its own); `robot` a
+    registered robot; `progress` is called with each row as its episode ends."""
+    from bench.sweep import simulated_duration
+    from bench.sweep_spec import SweepSpec
+
     specs = [
         EpisodeSpec(p, stabilizer, s, scenario, duration=duration, robot=robot)
         for p in planners
         for s in sims
     ]
-    workers = workers or min(len(specs), os.cpu_count() or 1)
-    rows = []
-    # spawned (at submit) inside the context, the workers load BLAS with one thread each
-    with (
-        single_threaded_workers(),
-        ProcessPoolExecutor(workers, mp_context=multiprocessing.get_context("spawn")) as pool,
-    ):
-        for row in pool.map(_row, specs):
-            rows.append(row)
+    if budget_s is None:
+        simulated_s = simulated_duration(scenario, 1.0, duration, robot)
+        budget_s = SweepSpec(controllers=(), sims=()).wall_budget_s(simulated_s)  # its defaults
+    executor = make_executor("local", workers or min(len(specs), os.cpu_count() or 1))
+    index = {id(spec): k for k, spec in enumerate(specs)}  # the executor hands back each item
+    rows: dict[int, dict] = {}
+    try:
+        for spec, result in executor.map_unordered(work, specs, lambda _: budget_s):
+            row = result if isinstance(result, dict) else _failure_row(spec, result)
+            rows[index[id(spec)]] = row
             if progress is not None:
                 progress(row)
-    return pd.DataFrame(rows, columns=[*COMPARISON_COLUMNS, "error"])
+    finally:
+        executor.close()
+    ordered = [rows[k] for k in range(len(specs))]
+    return pd.DataFrame(ordered, columns=[*COMPARISON_COLUMNS, "error"])
+
+
+def _failure_row(spec: EpisodeSpec, exc: BaseException) -> dict:
+    """The row of an episode that returned no row: "timeout" for one that overran its budget
+    (`bench.executors.EpisodeTimeout`), "error" for any other failure (its worker died)."""
+    status = "timeout" if isinstance(exc, EpisodeTimeout) else "error"
+    return {
+        "planner": spec.planner,
+        "sim": spec.sim,
+        "status": status,
+        "error": f"{status}: {type(exc).__name__}: {exc}",
+    }
 
 
 def horizon_timing(

@@ -1,5 +1,9 @@
 """The Sec. V-G comparison table and the MPC horizon timing."""
 
+import os
+import signal
+import time
+
 import numpy as np
 import pytest
 
@@ -143,3 +147,38 @@ def test_single_threaded_workers_sets_one_thread_inside_and_restores_the_environ
         assert os.environ["OMP_NUM_THREADS"] == "3"
     assert "OPENBLAS_NUM_THREADS" not in os.environ
     assert os.environ["OMP_NUM_THREADS"] == "3"
+
+
+def _fake_row(spec: EpisodeSpec) -> dict:
+    """No episode: MuJoCo's row at once; PyBullet's worker kills itself (a segfault's
+    effect) or hangs, as the environment says."""
+    if spec.sim == "pybullet":
+        if os.environ.get("CENTROBENCH_TEST_COMPARE") == "die":
+            os.kill(os.getpid(), signal.SIGKILL)
+        time.sleep(600)
+    return {"planner": spec.planner, "sim": spec.sim, "status": "ok"}
+
+
+@pytest.mark.parametrize(
+    ("fault", "status", "message"), [("die", "error", "WorkerDied"), ("hang", "timeout", "budget")]
+)
+def test_a_worker_that_dies_or_hangs_is_a_row_and_the_others_are_kept(
+    monkeypatch, fault, status, message
+):
+    """Until 2026-12-04 `compare` ran a plain process pool: one worker's death threw away the
+    rows already computed (BrokenProcessPool), and a hung episode hung it for ever. Now the
+    episode is a row with its status and the other rows stay, in the planners x sims order."""
+    monkeypatch.setenv("CENTROBENCH_TEST_COMPARE", fault)
+    begin = time.monotonic()
+    table = compare(
+        ["hold"],
+        "stand",
+        ["pybullet", "mujoco"],
+        duration=0.2,
+        workers=2,
+        work=_fake_row,
+        budget_s=3.0,
+    )
+    assert time.monotonic() - begin < 60
+    assert table[["sim", "status"]].values.tolist() == [["pybullet", status], ["mujoco", "ok"]]
+    assert message in table["error"].iloc[0]
