@@ -448,7 +448,12 @@ class ResultStore:
         and a sweep.json; unreadable or foreign episode files are moved to corrupt/ and their
         episodes run again, as are those whose status is in `retry`. `overwrite` moves the
         old results to .previous-*/ (`discard_aside` deletes them once the new sweep has
-        written an episode, `restore_aside` puts them back if it never does)."""
+        written an episode, `restore_aside` puts them back if it never does; a sweep killed
+        before either leaves them to the next `prepare`, `recover_aside`)."""
+        try:
+            self.recover_aside()
+        except OSError as exc:
+            raise ResultStoreError(_io_message(self.root, exc)) from exc
         existing = self.episode_files()
         if existing and not (resume or overwrite):
             raise ResultStoreError(
@@ -526,6 +531,19 @@ class ResultStore:
         self.aside.mkdir()
         for name in names:
             os.replace(self.root / name, self.aside / name)
+
+    def recover_aside(self) -> None:
+        """Finish what a killed --overwrite (SIGKILL, the OOM killer, a power cut) left
+        undone: the results it moved aside (.previous-*) are put back if it wrote no episode
+        (as `restore_aside` would have), else deleted (as `discard_aside` would have); the
+        newest first, so that the last results the directory held are the ones restored."""
+        for aside in sorted(self.root.glob(".previous-*"), reverse=True):
+            if aside.is_dir():
+                self.aside = aside
+                if self.episode_files():
+                    self.discard_aside()
+                else:
+                    self.restore_aside()
 
     def discard_aside(self) -> None:
         """Delete the results that --overwrite moved aside (the new sweep has started). They

@@ -400,6 +400,43 @@ def test_overwrite_moves_old_results_aside_until_the_new_sweep_has_started(tmp_p
     assert not list(out.glob(".previous-*"))  # deleted once the new sweep had started
 
 
+def test_results_a_killed_overwrite_moved_aside_come_back_on_the_next_sweep(
+    tmp_path: Path, monkeypatch
+):
+    """A SIGKILL runs no clean-up: an --overwrite killed before its first episode left the
+    old results in .previous-* for ever, and a resume of the old spec was refused as "another
+    spec" (until 2026-12-04). The next sweep on the directory puts them back; had the killed
+    sweep written an episode, it deletes them (its own episodes stay)."""
+    from bench.dataset import ResultStore
+
+    out = tmp_path / "out"
+    old_spec = fault_spec(push=None, sims=["mujoco"])
+    old = run_sweep(old_spec, out, workers=1, progress=False)
+
+    def killed(total: int, todo: int, notes: list[str]) -> None:
+        raise KeyboardInterrupt
+
+    new_spec = fault_spec(push=None, sims=["pybullet"])
+    with monkeypatch.context() as patch:  # as if killed: neither restored nor discarded
+        patch.setattr(ResultStore, "restore_aside", lambda self: None)
+        with pytest.raises(KeyboardInterrupt):
+            run_sweep(new_spec, out, overwrite=True, workers=1, progress=False, on_start=killed)
+    assert len(list(out.glob(".previous-*"))) == 1
+    assert not list((out / "episodes").iterdir())
+    again = run_sweep(old_spec, out, resume=True, workers=1, progress=False)
+    pd.testing.assert_frame_equal(again, old)  # all back, none run again
+    assert not list(out.glob(".previous-*"))
+
+    with monkeypatch.context() as patch:  # killed after its first episode was written
+        patch.setattr(ResultStore, "discard_aside", lambda self: None)
+        new = run_sweep(new_spec, out, overwrite=True, workers=1, progress=False)
+    assert len(list(out.glob(".previous-*"))) == 1
+    resumed = run_sweep(new_spec, out, resume=True, workers=1, progress=False)
+    pd.testing.assert_frame_equal(resumed, new)
+    assert set(resumed["sim"]) == {"pybullet"}
+    assert not list(out.glob(".previous-*"))
+
+
 def test_resume_with_another_spec_names_the_fields_that_differ(tmp_path: Path):
     out = tmp_path / "out"
     run_sweep(fault_spec(push=None, sims=["mujoco"]), out, workers=1, progress=False)
