@@ -127,6 +127,13 @@ class PushProtocol:
             or not all(d in ("random", *SUPPORT_DIRECTIONS) for d in directions)
         ):
             raise ValueError(f"directions' must be {_FIELDS['directions']}, got {directions!r}")
+        for label, values in (
+            ("phases", phases),
+            ("swing_fractions", [float(f) for f in fractions]),
+            ("directions", directions),
+        ):
+            if len(set(values)) != len(values):  # as for dv: the same pushes twice, one id
+                raise ValueError(f"{label}' names a value twice: {values!r}")
         for label, value, default in (
             ("swing_fractions", fractions, [0.5]),
             ("directions", directions, ["random"]),
@@ -146,15 +153,15 @@ class PushProtocol:
             )
         return cls(
             dv=tuple(float(v) for v in dv),
-            phases=tuple(dict.fromkeys(phases)),
+            phases=tuple(phases),
             count=count,
             seed=seed,
             survival_time=survival,
             standing_push_time=push_time,
             walking_push_step=step,
             replicas=replicas,
-            swing_fractions=tuple(dict.fromkeys(float(f) for f in fractions)),
-            directions=tuple(dict.fromkeys(directions)),
+            swing_fractions=tuple(float(f) for f in fractions),
+            directions=tuple(directions),
         )
 
     def episodes_per_grid_point(self) -> int:

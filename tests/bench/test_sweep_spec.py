@@ -38,6 +38,26 @@ VALID = {"controllers": ["hold+posture"], "sims": ["mujoco"], "scenarios": ["sta
         ({"scales": [1.0, 1]}, "scales", "names a value twice"),
         ({"frictions": [0.6, 0.6]}, "frictions", "names a value twice"),
         ({"push": {"dv": [0.1, 0.1]}}, "push.dv", "names a level twice"),
+        (
+            {"push": {"dv": [0.1], "phases": ["standing", "standing"]}},
+            "push.phases",
+            "names a value twice: ['standing', 'standing']",
+        ),
+        (
+            {"push": {"dv": [0.1], "phases": ["walking"], "swing_fractions": [0.5, 0.5]}},
+            "push.swing_fractions",
+            "names a value twice: [0.5, 0.5]",
+        ),
+        (
+            {"push": {"dv": [0.1], "phases": ["walking"], "swing_fractions": [1, 1.0]}},
+            "push.swing_fractions",
+            "names a value twice: [1.0, 1.0]",
+        ),
+        (
+            {"push": {"dv": [0.1], "phases": ["walking"], "directions": ["inward", "inward"]}},
+            "push.directions",
+            "names a value twice: ['inward', 'inward']",
+        ),
         ({"speeds": "fast"}, "speeds", "a list of forward speeds"),
         ({"timeout_base_s": 10**400}, "timeout_base_s", "a number in (0, 86400] s"),
         ({"timeout_per_sim_s": "10"}, "timeout_per_sim_s", "(0, 1000] s per simulated s"),
