@@ -3,8 +3,9 @@ walks without falling, and its walking quality there (eq. 18).
 
 Per controller and simulator, `walk` with a gait command of `steps` steps at speed v: a
 ladder of speeds (`start`, `start + increment`, ... up to `maximum`) is climbed until a walk
-falls (or ends in an error), then the interval between the highest speed walked and the
-lowest that fell is bisected on a grid of `resolution` (0.01 m/s, the issue's) until it is one
+falls (or ends in an error or a "timeout": then the speed found is a lower bound, and the
+table says so), then the interval between the highest speed walked and the lowest that fell
+is bisected on a grid of `resolution` (0.01 m/s, the issue's) until it is one
 step wide. Outcomes are taken as monotonic in the speed, as a ladder and a bisection must. The
 pairs are searched side by side in the local executor's worker processes, each on its own:
 a pair's next speed is handed out as soon as its last one has been walked (no rounds that
@@ -189,6 +190,25 @@ def steady_speed(footsteps: pd.DataFrame | None, start_s: float = 0.0) -> float 
     return float((same["x_m"].iloc[-1] - same["x_m"].iloc[0]) / duration) if duration > 0 else None
 
 
+def _failure_row(item: tuple, exc: BaseException) -> dict[str, Any]:
+    """The row of a walk that ended without a result: status "timeout" when it overran its
+    wall-clock budget (`bench.executors.EpisodeTimeout`: the machine's, not the controller's,
+    failing; `reports.tables.speed_table` says so in "v_fell ended"), "error" otherwise (its
+    worker died). Either counts as not walked, so the speed found is then a lower bound."""
+    from bench.executors import EpisodeTimeout
+
+    controller, sim, speed, _, replica = item
+    timeout = isinstance(exc, EpisodeTimeout)
+    return {
+        "controller": controller,
+        "sim": sim,
+        "speed_command_mps": speed,
+        "replica": replica,
+        "status": "timeout" if timeout else "error",
+        "error": f"timeout: {exc}" if timeout else f"{type(exc).__name__}: {exc}",
+    }
+
+
 def run_speed_protocol(
     controllers: Iterable[str],
     sims: Iterable[str],
@@ -229,16 +249,9 @@ def run_speed_protocol(
     try:
         with terminate_as_interrupt():
             for item, result in executor.map_unordered(work, queue, budget=lambda _: budget_s):
-                controller, sim, speed, _, replica = item
+                controller, sim, speed = item[:3]
                 if isinstance(result, BaseException):
-                    result = {
-                        "controller": controller,
-                        "sim": sim,
-                        "speed_command_mps": speed,
-                        "replica": replica,
-                        "status": "error",
-                        "error": f"{type(result).__name__}: {result}",
-                    }
+                    result = _failure_row(item, result)
                 rows.append({**result, "replicas_required": protocol.required})
                 outcomes = walked.setdefault((controller, sim, speed), [])
                 outcomes.append(result["status"] == "ok")

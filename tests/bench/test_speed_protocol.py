@@ -3,6 +3,7 @@ by side in one set of worker processes, the table, and one real walk at a comman
 
 import math
 import os
+import time
 
 import pandas as pd
 import pytest
@@ -75,6 +76,30 @@ def fake_walk(item):
         "speed_walked_mps": speed * 0.9,
         "worker_pid": os.getpid(),
     }
+
+
+def hanging_walk(item):
+    """The fake walk, but one that never ends above 0.05 m/s (module level: a worker runs it)."""
+    if item[2] > 0.05 + 1e-12:
+        time.sleep(60)
+    return fake_walk(item)
+
+
+def test_a_walk_that_overruns_its_budget_is_a_timeout_row_and_the_table_says_so():
+    """A hung walk ends as a "timeout" row (not an "error": the machine's failing, not the
+    controller's, and the table's "v_fell ended" must tell the two apart), counted as not
+    walked; the search goes on below it and the table names the timeout."""
+    protocol = SpeedProtocol(start=0.05, increment=0.05, maximum=0.1, resolution=0.05)
+    trials = run_speed_protocol(
+        ["fast"], ["mujoco"], protocol, workers=1, work=hanging_walk, budget_s=1.0, progress=False
+    )
+    assert trials["speed_command_mps"].tolist() == pytest.approx([0.05, 0.1])
+    hung = trials.set_index("speed_command_mps").loc[0.1]
+    assert hung["status"] == "timeout"
+    assert hung["error"].startswith("timeout: ")
+    row = speed_table(trials).iloc[0]
+    assert row["v_ref_mps"] == pytest.approx(0.05)
+    assert row["v_fell ended"] == "timeout"
 
 
 def test_each_search_walks_the_speeds_of_a_search_run_alone_in_one_set_of_workers():
