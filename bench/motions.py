@@ -62,6 +62,7 @@ from robots.multi_contact_scenes import (
     moving_contacts,
 )
 from robots.scene import Contact, ContactPhase, Grasp, LimbWaypoint, Scenario
+from robots.similarity import froude_time_scale
 
 Quaternion = tuple[float, float, float, float]
 
@@ -304,7 +305,7 @@ def _begin(model: RobotModel):
     poses = _limb_poses(model)
     feet = {c.limb: c for c in _standing_feet(poses)}
     scale = model.robot.scale
-    return scale, math.sqrt(scale), poses, feet, ContactSequence(tuple(feet.values()))
+    return scale, froude_time_scale(scale), poses, feet, ContactSequence(tuple(feet.values()))
 
 
 def _limb_poses(model: RobotModel) -> dict[str, tuple[np.ndarray, np.ndarray]]:
@@ -348,7 +349,7 @@ def moving_contacts_motion(model: RobotModel, duration: float | None = None) -> 
     damping control follows their motion). The CoM reference follows the rule of Sec. V-C
     (the feet's centre, constant height above them)."""
     robot = model.robot
-    scale, time_scale = robot.scale, math.sqrt(robot.scale)
+    scale, time_scale = robot.scale, froude_time_scale(robot.scale)
     poses = _limb_poses(model)
     left, right = _wall_palms(scale)
     sequence = ContactSequence(_standing_feet(poses))

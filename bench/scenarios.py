@@ -49,6 +49,7 @@ from robots.gait import GAIT_STEPS, GaitCommand
 from robots.model import RobotModel
 from robots.registry import FLAT_GROUND, MULTI_CONTACT, WALKING
 from robots.scene import Contact, ContactPhase, HandTarget, PushEvent, Scenario, Scene
+from robots.similarity import froude_time_scale
 
 WALK_STEPS = GAIT_STEPS  # steps of `walk` (and so the single-support phases `walk_push` pushes)
 
@@ -184,7 +185,7 @@ def walk(
     scale = model.robot.scale
     forward, lateral = gait.step_length_for(scale)
     swing_height = gait.swing_height * scale
-    step_period = gait.step_period * np.sqrt(scale)  # Froude similarity
+    step_period = gait.step_period * froude_time_scale(scale)
     steps = gait.steps
     start = {c.limb: c for c in _standing_contacts(model)}
     feet = {name: np.array(contact.position_world) for name, contact in start.items()}

@@ -58,6 +58,7 @@ from planners.step_schedule import FEET, StepSchedule, other_foot
 from robots.model import RobotModel
 from robots.registry import FLAT_GROUND
 from robots.scene import Scenario
+from robots.similarity import froude_time_scale
 from robots.types import CentroidalPlan, Footstep, RobotState
 
 HAND = "right_hand"  # the hand of eq. 17 (the paper drives the right hand)
@@ -317,7 +318,7 @@ class CapturabilityHierarchyPlanner:
         com = pin.centerOfMass(self.model, self.data, q)
         self.height = float(com[2] - self.ground)
         self.omega = math.sqrt(GRAVITY / self.height)
-        self.period_s = PREVIEW_PERIOD_S * math.sqrt(self.scale)
+        self.period_s = PREVIEW_PERIOD_S * froude_time_scale(self.scale)
         for phase_s in (SINGLE_SUPPORT_S, DOUBLE_SUPPORT_S):  # `_use_preview`'s alignment
             if abs(phase_s / PREVIEW_PERIOD_S - round(phase_s / PREVIEW_PERIOD_S)) > 1e-9:
                 raise ValueError(
@@ -327,7 +328,8 @@ class CapturabilityHierarchyPlanner:
         self._previews: dict[int, tuple] = {}  # the aligned previews by first interval [us]
         self._use_preview(self.period_s)
         self.schedule = StepSchedule(
-            SINGLE_SUPPORT_S * math.sqrt(self.scale), DOUBLE_SUPPORT_S * math.sqrt(self.scale)
+            SINGLE_SUPPORT_S * froude_time_scale(self.scale),
+            DOUBLE_SUPPORT_S * froude_time_scale(self.scale),
         )
         self.base_orientation_reference = np.array(state.base_orientation_world, dtype=float)
         self.velocity_reference = None
@@ -342,12 +344,12 @@ class CapturabilityHierarchyPlanner:
             )
         if gait is not None:
             forward, lateral = gait.step_length_for(self.scale)
-            period = gait.step_period * math.sqrt(self.scale)
+            period = gait.step_period * froude_time_scale(self.scale)
             self.velocity_reference = np.array([forward, lateral]) / period
             first = FEET[0] if lateral > 0 else FEET[1]
-            duration = gait.steps * gait.step_period * math.sqrt(self.scale)
+            duration = gait.steps * gait.step_period * froude_time_scale(self.scale)
             self.schedule.start(
-                gait.start_double_support * math.sqrt(self.scale),
+                gait.start_double_support * froude_time_scale(self.scale),
                 first,
                 max(1, round(duration / self.schedule.period_s)),
             )
@@ -358,7 +360,7 @@ class CapturabilityHierarchyPlanner:
             # the paper's robot walks from the start, in place when nothing drives it (Sec.
             # VII-B: "exclusion of (17) from the hierarchy results in walking in place")
             first = min(target.time for target in scenario.hand_targets)
-            start = first + REACH_FIRST_STEP_S * math.sqrt(self.scale)
+            start = first + REACH_FIRST_STEP_S * froude_time_scale(self.scale)
             self.schedule.start(start, REACH_FIRST_SWING)
         self.warm = None
         self.last_phase = self.schedule.phase(0.0)

@@ -70,6 +70,7 @@ from planners.base import PlannerSpec, register
 from robots.five_mass import FiveMassModel
 from robots.model import RobotModel
 from robots.scene import Scenario
+from robots.similarity import froude_time_scale
 from robots.types import CentroidalPlan, Footstep, RobotState
 
 STEP_SIZE_GAIN = 1.0  # K_s (Sec. 4)
@@ -220,7 +221,7 @@ class FiveMassGaitPlanner:
             return
         scale = description.scale
         forward, lateral = gait.step_length_for(scale)
-        step_period = gait.step_period * math.sqrt(scale)
+        step_period = gait.step_period * froude_time_scale(scale)
         self.velocity_command = np.array([forward, lateral]) / step_period  # v_g^ref [m/s]
         self.yaw_rate_command = gait.turn_per_step(scale) / step_period  # [rad/s]
         self.swing_height = gait.swing_height * scale

@@ -7,6 +7,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from robots.similarity import froude_time_scale
+
 GAIT_STEPS = 10  # the default number of steps
 
 
@@ -48,7 +50,7 @@ class GaitCommand:
 
     def step_length_for(self, scale: float) -> tuple[float, float]:
         """(forward, lateral) advance of the path per step [m] at `scale`."""
-        period = self.step_period * np.sqrt(scale)
+        period = self.step_period * froude_time_scale(scale)
         forward = self.speed * period if self.speed is not None else self.step_length * scale
         lateral = (
             self.lateral_speed * period
@@ -61,7 +63,7 @@ class GaitCommand:
         """The path's heading change per step [rad] at `scale`."""
         if self.yaw_rate is None:
             return self.turn
-        return self.yaw_rate * self.step_period * float(np.sqrt(scale))
+        return self.yaw_rate * self.step_period * froude_time_scale(scale)
 
     def path(self, scale: float) -> list[tuple[np.ndarray, float]]:
         """The path's poses after 0, 1, ..., steps - 1 advances: position (x, y) [m] relative

@@ -35,6 +35,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from robots.inertia import composite_inertial
+from robots.similarity import froude_time_scale
 from robots.spec import Frame, Geometry, Joint, Limb, Link, RobotDescription
 
 NOMINAL_HEIGHT_M = 1.60
@@ -131,7 +132,7 @@ class _Scaling:
 
     @property
     def speed(self) -> float:
-        return self.length**-0.5
+        return 1.0 / froude_time_scale(self.length)
 
 
 @functools.lru_cache(maxsize=16)

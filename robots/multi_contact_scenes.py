@@ -24,6 +24,7 @@ import math
 from collections.abc import Callable
 
 from robots.scene import Box, MovingBox, Scene
+from robots.similarity import froude_time_scale
 from robots.spec import RobotDescription
 
 # --------------------------------------------------------------------- the paper's numbers
@@ -346,7 +347,7 @@ def moving_contacts(robot: RobotDescription) -> Scene:
       away from the robot) through their centres; phases pi/2 (left) and 3 pi/2 (right).
     Translations x robot.scale; angles not scaled."""
     s = robot.scale
-    period = MOTION_PERIOD_S * math.sqrt(s)
+    period = MOTION_PERIOD_S * froude_time_scale(s)
     ramp = MOTION_RAMP_PERIODS * period
     amplitude, angle = PAPER_MOTION_TRANSLATION_M * s, PAPER_MOTION_ROTATION_RAD
     half_length, half_width = 0.5 * FLOOR_PLATE_LENGTH * s, 0.5 * FLOOR_PLATE_WIDTH * s
