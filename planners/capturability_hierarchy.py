@@ -33,10 +33,12 @@ robot walks from the start of its tests), and, to make it stand and step on our 
 simulator (each measured, docs/sherikov.md): the current CoP z_0 bounded too, a 1 cm margin
 inside the soles, a least load on every contact sole, contact-velocity damping in eq. 8, a
 CoM-height objective, the swing's orientation held by a PD, the footstep kept in the last
-0.1 s of a swing, and the "both feet" support as the box around both soles (exact for feet
-side by side). The preview's first interval is shortened to the step grid, so that its
-samples fall on the lift-offs, touchdowns and double supports' ends (as the authors' humoto
-does, module `wpg04`; the paper says only "at 100 ms").
+0.1 s of a swing, the "both feet" support as the box around both soles (exact for feet
+side by side), and the preview's samples after a walk's end on both feet
+(`_standing_after_walk`; the paper's robot never stops). The preview's first interval is
+shortened to the step grid, so that its samples fall on the lift-offs, touchdowns and double
+supports' ends (as the authors' humoto does, module `wpg04`; the paper says only "at 100
+ms").
 """
 
 from __future__ import annotations
@@ -698,6 +700,14 @@ class CapturabilityHierarchyPlanner:
                 centre, bounds = weight_shift_support(anchor, foot_box, box_about(anchor), lift_off)
             centres[k] = centre
             lows[k], highs[k] = bounds[0] + centre, bounds[1] + centre
+        # the samples after a walk's end stand on both feet (`_standing_after_walk`)
+        coefficients = (footholds[:, None] >= np.arange(1, lay.steps + 1)).astype(float)
+        after = np.zeros(lay.samples, dtype=bool)
+        if walking or starting:
+            after = self.schedule.samples_after_walk(self._t, self.period_s, lay.samples)
+        pairs = self._standing_after_walk(
+            after, footholds, coefficients, centres, lows, highs, anchor, phase, feet_next
+        )
         for axis in range(2):
             # eq. 11 now too: the preview's CoP z_0 = c_0 - c''_0 / omega^2 in the current
             # support (else the point mass could lean on a CoP that only angular momentum of
@@ -716,10 +726,20 @@ class CapturabilityHierarchyPlanner:
             )
             # eqs. 11 and 21 for the samples, one row each (scaled row by row, as separate
             # blocks would be): z_k - p_j(k), p_j = anchor + sum_{i <= j} d_i
-            a = functools.partial(self._cop_preview_rows, axis, footholds)
-            key = ("cop_preview", axis, footholds.tobytes())
+            a = functools.partial(self._cop_preview_rows, axis, coefficients)
+            key = ("cop_preview", axis, coefficients.tobytes())
             first.add(a, lows[:, axis], highs[:, axis], name="cop_preview", rowwise=True, key=key)
             third.equal(a, centres[:, axis], COP_WEIGHT, "cop", rowwise=True, key=key)
+            if pairs is not None:  # eq. 11 on both feet after the walk: z_k - p_j, j = L-1, L
+                rows, pair_coefficients, pair_lows, pair_highs = pairs
+                first.add(
+                    functools.partial(self._cop_preview_rows, axis, pair_coefficients, rows),
+                    pair_lows[:, axis],
+                    pair_highs[:, axis],
+                    name="cop_after_walk",
+                    rowwise=True,
+                    key=("cop_after_walk", axis, rows.tobytes(), pair_coefficients.tobytes()),
+                )
             # eq. 14 at level 2
             row_known = self.capture_row[0]
             second.equal(
@@ -758,15 +778,68 @@ class CapturabilityHierarchyPlanner:
         a[self.layout.cdd.start + axis] = -1.0 / self.omega**2
         return a
 
-    def _cop_preview_rows(self, axis: int, footholds: np.ndarray) -> np.ndarray:
-        """z_k - p_j(k) along `axis` for the samples k (eqs. 11 and 21), p_j = anchor +
-        sum_{i <= j} d_i, `footholds` the j(k)."""
+    def _cop_preview_rows(
+        self, axis: int, coefficients: np.ndarray, samples: np.ndarray | None = None
+    ) -> np.ndarray:
+        """z_k - sum_i w_i d_i along `axis` for the samples k (eqs. 11 and 21): with w_i = 1
+        for i <= j(k) the CoP less the foothold p_j = anchor + sum_{i <= j} d_i; `coefficients`
+        the w (one row per row, K columns), `samples` the k of each row (None: every sample,
+        in order)."""
         lay = self.layout
-        a = np.zeros((lay.samples, lay.size))
-        a[:, lay.cop(axis)] = np.eye(lay.samples)
+        samples = np.arange(lay.samples) if samples is None else samples
+        a = np.zeros((len(samples), lay.size))
+        a[np.arange(len(samples)), lay.cop(axis).start + samples] = 1.0
         for i in range(1, lay.steps + 1):
-            a[:, lay.step(i).start + axis] = np.where(footholds >= i, -1.0, 0.0)
+            a[:, lay.step(i).start + axis] = -coefficients[:, i - 1]
         return a
+
+    def _standing_after_walk(
+        self, after, footholds, coefficients, centres, lows, highs, anchor, phase, feet_next
+    ):
+        """Ours: the preview samples after the walk's end (`after`) stand on both feet, as the
+        robot will, instead of on the last foothold alone (until 2026-12-04; the paper's robot
+        never stops). A sample on the footholds L-1 and L (L = j(k), index 0 the current one):
+        eq. 21 centres its CoP on their midpoint (w_L = 1/2 in `coefficients`, changed in
+        place) and eq. 11 bounds it by both soles, for feet side by side: along x within each
+        sole's extent, along y between the right sole's outer edge and the left's (the rows
+        returned). The x rows are the linear part of the soles' hull that holds for any
+        stagger (the hull itself is bilinear in the footsteps): they cap the last step's
+        stagger at the CoP box's length, 2 (a - margin) (0.20 m on the humanoid, 0.18 m on
+        JVRC-1; measured binding in `walk`, docs/sherikov.md). At L = 0 (the last double
+        support) the feet are known: the both-feet box and its middle, in `centres`, `lows`,
+        `highs` (changed in place). Returns (samples, coefficients, lows, highs) of the two
+        rows per sample at L >= 1, or None."""
+        lay = self.layout
+        if not after.any():
+            return None
+        low_both, high_both = self._both_feet_box()
+        rows, pair_coefficients, pair_lows, pair_highs = [], [], [], []
+        stance = phase.stance if phase.stance is not None else other_foot(feet_next[0])
+        half_x, half_y = self.cop_extents
+        for k in np.flatnonzero(after):
+            last = int(footholds[k])
+            if last == 0:
+                centres[k] = (low_both + high_both) / 2
+                lows[k], highs[k] = low_both, high_both
+                continue
+            coefficients[k, last - 1] = 0.5
+            lows[k], highs[k] = -np.inf, np.inf  # its bounds are the two rows below
+            centres[k] = anchor
+            for j in (last - 1, last):
+                foot = stance if j == 0 else feet_next[j - 1]
+                left = foot == FEET[0]
+                rows.append(k)
+                pair_coefficients.append(np.arange(1, lay.steps + 1) <= j)
+                pair_lows.append(anchor + np.array([-half_x, -np.inf if left else -half_y]))
+                pair_highs.append(anchor + np.array([half_x, half_y if left else np.inf]))
+        if not rows:
+            return None
+        return (
+            np.array(rows),
+            np.array(pair_coefficients, dtype=float),
+            np.array(pair_lows),
+            np.array(pair_highs),
+        )
 
     def _capture_row(self, axis: int) -> np.ndarray:
         """Eq. 14's capture-point velocity along `axis`, in c''_0 and the CoPs."""

@@ -141,3 +141,17 @@ class StepSchedule:
             landed = step if into_k > self.single_s + 1e-9 else step - 1
             supports[k - 1] = max(0, landed - first + 1)
         return supports
+
+    def samples_after_walk(self, t: float, period_s: float, n: int) -> np.ndarray:
+        """(n,) bool: the preview samples (times as in `sample_supports`) at or after the end
+        of a walk of given length (its last double support's end), when the robot stands on
+        both feet again; all False for a walk without end or while standing."""
+        after = np.zeros(n, dtype=bool)
+        if self.walk_start is None or self.steps is None:
+            return after
+        end = self.walk_start + self.steps * self.period_s
+        if t >= end - 1e-9:
+            return after  # standing again: every sample is on the current support
+        times = t + self.first_interval(t, period_s) + period_s * np.arange(n)
+        after[:] = times >= end - 1e-9
+        return after

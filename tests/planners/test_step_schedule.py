@@ -95,3 +95,21 @@ def test_before_a_walk_starts_the_preview_sees_its_steps():
     assert schedule.phase(0.95).step == -1
     supports = schedule.sample_supports(0.95, 0.1, 16)
     np.testing.assert_array_equal(supports, [0] * 8 + [1] * 8)
+
+
+def test_the_samples_after_a_walk_of_given_length_are_marked():
+    """A walk of 2 steps from 1.0 ends at 2.6 (2 x 0.8 s). At 1.95 (step 1's single support)
+    the samples fall at 2.0, 2.1, ...: those from 2.6 on (the seventh on) are after it; a
+    walk without end, standing, or a time after the end mark none."""
+    schedule = StepSchedule(0.7, 0.1)
+    schedule.start(1.0, "left_foot", steps=2)
+    after = schedule.samples_after_walk(1.95, 0.1, 10)
+    np.testing.assert_array_equal(after, [False] * 6 + [True] * 4)
+    # before the walk: the samples at 1.0 ... 2.5, before its end at 2.6
+    np.testing.assert_array_equal(schedule.samples_after_walk(0.95, 0.1, 16), [False] * 16)
+    assert schedule.samples_after_walk(1.05, 0.1, 16).sum() == 1  # 2.6 is the 16th sample
+    assert not schedule.samples_after_walk(2.7, 0.1, 16).any()
+    endless = StepSchedule(0.7, 0.1)
+    endless.start(1.0, "left_foot")
+    assert not endless.samples_after_walk(1.95, 0.1, 16).any()
+    assert not StepSchedule().samples_after_walk(0.0, 0.1, 16).any()
