@@ -22,7 +22,11 @@ the IMU and the joint encoders only, no force sensors.
   measuring the CoM position and the unrotated, gravity-free trunk acceleration
   G a_t = R_t a_imu - [0, 0, g] (eq. 6; the IMU's specific force rotated to the world).
   The filter is time-invariant, so its steady-state gain is computed once from the discrete
-  Riccati equation (scipy).
+  Riccati equation (scipy; ours: the paper does not say whether its gain is the steady one).
+  Its noises (`COM_POSITION_NOISE_M` ... `TILT_JERK_NOISE`) are ours, the paper gives none;
+  the jerk noise is a density (per sqrt(Hz)) while the measurement noises are per sample, so
+  at another period the filter trusts the accelerometer differently (its gain on the
+  acceleration 0.72 at 500 Hz, 0.91 at 100 Hz, the paper's control rate).
 - ZMP (eq. 7): p = x^ - z^ / g x^'', with z^ the CoM height above the support sole.
 - `five_mass_kalman_com` (ours, not the paper's): the same filter measuring the IMU's
   acceleration transported to the CoM through the kinematics, G a_c = G a_t + d/dt (c' - t')
@@ -30,7 +34,9 @@ the IMU and the joint encoders only, no force sensors.
   below the waist joints, where the touchdowns' impacts reach it (docs/ficht-behnke.md, "The
   five-mass filter on JVRC-1").
 - A second filter of the same form on the flywheel angle, measuring the angles only, gives
-  their rates and accelerations: the projected tilt angles (`centroidal.tilt`) of the
+  their rates and accelerations (ours, our reading: the paper filters "the angles of the
+  inertia orientation" R_I; we filter what its eq. 13 controls, R_I's angles less the
+  pendulum's): the projected tilt angles (`centroidal.tilt`) of the
   principal z axis of inertia less those of the line from the feet's midpoint to the CoM (the
   pendulum of eq. 5's neutral tilt: "the torque of a flywheel attached to a pendulum is zero
   [when] it does not rotate with respect to it").
@@ -53,6 +59,7 @@ from robots.five_mass import FiveMassModel
 from robots.model import RobotModel
 from robots.types import CentroidalPlan, RobotState, Sensors
 
+# Ours, all (the paper gives no values):
 HYSTERESIS_M = 0.005  # [m] at scale 1
 COM_POSITION_NOISE_M = 0.002  # [m] five-mass CoM against the true one (model, encoder errors)
 TRUNK_ACCELERATION_NOISE = 1.0  # [m/s^2] the trunk's acceleration is the CoM's only roughly
@@ -62,7 +69,12 @@ TILT_JERK_NOISE = 30.0  # [rad/s^3 sqrt(s)], per sqrt(Hz)
 
 
 def constant_acceleration_model(dt: float, jerk: float) -> tuple[np.ndarray, np.ndarray]:
-    """(F, Q) of [x, x', x''] over dt [s] with white jerk of spectral density jerk^2."""
+    """(F, Q) of [x, x', x''] over dt [s], the jerk held over each period (zero-order hold)
+    as a white sequence of variance jerk^2 / dt, so Q = jerk^2 / dt g g^T with g = (dt^3 / 6,
+    dt^2 / 2, dt): a rank-one approximation of a white jerk of spectral density jerk^2
+    [(m/s^3)^2 / Hz], whose exact Q is jerk^2 [[dt^5/20, dt^4/8, dt^3/6], [dt^4/8, dt^3/3,
+    dt^2/2], [dt^3/6, dt^2/2, dt]] (ours; the steady gain differs from the exact one's by
+    about 7 % at 2 ms)."""
     f = np.array([[1.0, dt, dt * dt / 2], [0.0, 1.0, dt], [0.0, 0.0, 1.0]])
     g = np.array([[dt**3 / 6], [dt * dt / 2], [dt]])
     return f, jerk**2 / dt * (g @ g.T)
@@ -163,13 +175,12 @@ class FiveMassKalmanEstimator(EstimatorBase):
     def follow(self, plan: CentroidalPlan) -> None:
         """The plan's support foot and footholds: the ground frame in which the reference is
         expressed (see the module)."""
-        contacts = plan.contact_limbs
-        self.planned_support = (
-            self.limb_names.index(contacts[0])
-            if len(contacts) == 1 and contacts[0] in self.limb_names
-            else None
-        )
-        if len(contacts) == 2:  # double support: the foot found below is on its foothold
+        feet = {self.limb_names[k] for k in self.foot_index}
+        planned_feet = [c for c in plan.contact_limbs if c in feet]  # hands do not support
+        self.planned_support = None
+        if len(planned_feet) == 1:
+            self.planned_support = self.limb_names.index(planned_feet[0])
+        elif len(planned_feet) == 2:  # double support: the foot found below is on its foothold
             self.planned_support = self.foot_index[self.support]
         self.planned_position = plan.limb_target_position_world
 
@@ -250,6 +261,7 @@ class FiveMassKalmanEstimator(EstimatorBase):
             contact_wrench_limb=sensors.contact_wrench_limb,
             contact_flag_limb=sensors.contact_flag_limb,
             zmp_world=zmp,
+            # z: 0, not estimated (the filters are horizontal; eq. 7 needs none)
             com_acceleration_world=np.array([state[2, 0], state[2, 1], 0.0]),
             inertia_tilt=tilt[0].copy(),
             inertia_tilt_rate=tilt[1].copy(),

@@ -337,3 +337,66 @@ def test_the_five_mass_filter_takes_one_step_per_sensor_time(model):
         np.testing.assert_allclose(b.com_acceleration_world, a.com_acceleration_world, atol=1e-12)
         np.testing.assert_allclose(b.zmp_world, a.zmp_world, atol=1e-12)
     assert once[-1].com_acceleration_world[0] > 1.0  # the filter follows the acceleration
+
+
+def test_eq_7_puts_the_zmp_behind_a_forward_accelerating_com(model):
+    """Eq. 7 from the LIPM, x'' = g / z (x - p): a CoM accelerating forward has its ZMP behind
+    it by z x'' / g, z the CoM height above the support sole. Synthetic sensors: the robot
+    held upright with its accelerometer reading 2 m/s^2 forward; once the filter's
+    acceleration has risen (above 1 m/s^2), its ZMP lies behind its CoM by the filter's
+    acceleration times z / g, z from pinocchio's CoM and sole of the standing posture (not
+    from the estimator), and sideways under it."""
+    import pinocchio as pin
+
+    from estimators.five_mass_kalman import GRAVITY, FiveMassKalmanEstimator
+
+    initial = model.standing_state()
+    upright = initial.base_orientation_world
+    accelerating = np.array([2.0, 0.0, GRAVITY])
+    kalman = FiveMassKalmanEstimator(model)
+    kalman.reset(initial, _held_still(model, 0.0, upright, accelerating))
+    for k in range(1, 101):
+        state = kalman.estimate(_held_still(model, k * kalman.dt, upright, accelerating))
+    q = model.configuration(initial)
+    data = model.model.createData()
+    com = pin.centerOfMass(model.model, data, q)
+    pin.framesForwardKinematics(model.model, data, q)
+    sole = data.oMf[model.frame_id[model.robot.limbs[kalman.foot_index[0]].contact_frame]]
+    height = com[2] - sole.translation[2]
+    acceleration = state.com_acceleration_world[0]
+    assert acceleration > 1.0
+    behind = state.com_position_world[0] - state.zmp_world[0]
+    assert behind == pytest.approx(height / GRAVITY * acceleration, rel=1e-3)
+    assert abs(state.zmp_world[1] - state.com_position_world[1]) < 1e-3
+
+
+def test_a_hand_in_contact_does_not_make_the_lower_foot_the_support(model):
+    """The five-mass filter anchors its support sole on the plan's foothold while the plan has
+    that foot as its support. A plan in contact with one foot and one hand (right foot, left
+    hand) supports on that foot: the left sole, found lower (both are level here, the first
+    one wins), is not snapped onto the plan's left target 5 cm away, and the estimate equals
+    the one of a plan on the right foot alone (before 2026-12-04 any two contacts counted as
+    double support, and the CoM estimate moved by the 5 cm)."""
+    from estimators.five_mass_kalman import GRAVITY, FiveMassKalmanEstimator
+
+    initial = model.standing_state()
+    upright = initial.base_orientation_world
+    still = np.array([0.0, 0.0, GRAVITY])
+    names = list(model.robot.limb_names)
+
+    def estimate(contacts):
+        kalman = FiveMassKalmanEstimator(model)
+        kalman.reset(initial, _held_still(model, 0.0, upright, still))
+        assert names[kalman.foot_index[kalman.support]] == "left_foot"
+        targets = np.zeros((len(names), 3))
+        targets[names.index("left_foot")] = kalman.anchor + np.array([0.05, 0.0, 0.0])
+        targets[names.index("right_foot")] = kalman.data.oMf[kalman.foot_frames[1]].translation
+        kalman.follow(SimpleNamespace(contact_limbs=contacts, limb_target_position_world=targets))
+        return kalman.estimate(_held_still(model, kalman.dt, upright, still))
+
+    alone = estimate(("right_foot",))
+    with_hand = estimate(("right_foot", "left_hand"))
+    both_feet = estimate(("left_foot", "right_foot"))
+    np.testing.assert_allclose(with_hand.com_position_world, alone.com_position_world, atol=1e-12)
+    # double support does snap the lower (left) sole: the estimate moves with it
+    assert both_feet.com_position_world[0] - alone.com_position_world[0] > 0.04
