@@ -141,6 +141,7 @@ class FiveMassKalmanEstimator(EstimatorBase):
         self.hysteresis = HYSTERESIS_M * model.robot.scale
         self.limb_names = list(model.robot.limb_names)
         self.foot_frames = [self.limb_frames[k] for k in self.foot_index]
+        self.foot_names = frozenset(self.limb_names[k] for k in self.foot_index)
         self.com_filter = AxisFilter(
             dt,
             COM_JERK_NOISE,
@@ -175,8 +176,7 @@ class FiveMassKalmanEstimator(EstimatorBase):
     def follow(self, plan: CentroidalPlan) -> None:
         """The plan's support foot and footholds: the ground frame in which the reference is
         expressed (see the module)."""
-        feet = {self.limb_names[k] for k in self.foot_index}
-        planned_feet = [c for c in plan.contact_limbs if c in feet]  # hands do not support
+        planned_feet = [c for c in plan.contact_limbs if c in self.foot_names]  # no hands
         self.planned_support = None
         if len(planned_feet) == 1:
             self.planned_support = self.limb_names.index(planned_feet[0])
